@@ -1,0 +1,96 @@
+//! A description of a model's causal bond graph, as data: what the macro decided at
+//! compile time, for drawing the graph and for inspecting causality.
+
+/// The kind of a bond-graph element.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ElementKind {
+    /// Effort source.
+    Se,
+    /// Flow source.
+    Sf,
+    /// Capacitive storage (a spring, a capacitor).
+    C,
+    /// Inertial storage (a mass, an inductor).
+    I,
+    /// Resistor (a damper, a resistor).
+    R,
+    /// Transformer.
+    Tf,
+    /// Gyrator.
+    Gy,
+    /// 0-junction (common effort).
+    Zero,
+    /// 1-junction (common flow).
+    One,
+}
+
+impl ElementKind {
+    /// The kind as written in a `bond_graph!` block.
+    pub const fn keyword(self) -> &'static str {
+        match self {
+            ElementKind::Se => "Se",
+            ElementKind::Sf => "Sf",
+            ElementKind::C => "C",
+            ElementKind::I => "I",
+            ElementKind::R => "R",
+            ElementKind::Tf => "TF",
+            ElementKind::Gy => "GY",
+            ElementKind::Zero => "0",
+            ElementKind::One => "1",
+        }
+    }
+}
+
+/// The causality an element ended up with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ElementCausality {
+    /// Storage element integrating its input (its state is a state of the model).
+    Integral,
+    /// Resistor computing its effort from its flow (`e = φ(f)`).
+    Resistance,
+    /// Resistor computing its flow from its effort (`f = φ⁻¹(e)`).
+    Conductance,
+    /// Anything whose causality is fixed by its kind (sources, junctions, TF, GY).
+    Fixed,
+}
+
+/// One element of the graph.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GraphElement {
+    /// The element's name in the model.
+    pub name: &'static str,
+    /// Its kind.
+    pub kind: ElementKind,
+    /// The causality it was assigned.
+    pub causality: ElementCausality,
+}
+
+/// One bond of the graph: power flows from `from` to `to` (the half arrow points at
+/// `to`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GraphBond {
+    /// The bond's label, if the model gave it one.
+    pub label: Option<&'static str>,
+    /// Index into [`CausalGraph::elements`] of the element the bond leaves.
+    pub from: usize,
+    /// Index into [`CausalGraph::elements`] of the element the half arrow points at.
+    pub to: usize,
+    /// 1 for a scalar bond, n for an n-dimensional multibond.
+    pub dimension: usize,
+    /// Index of the element at the causal-stroke end: the element the bond's effort acts
+    /// on (it receives the effort and answers with the flow).
+    pub stroke_at: usize,
+}
+
+/// A model's causal bond graph.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CausalGraph {
+    /// The model's name.
+    pub model: &'static str,
+    /// Elements in declaration order.
+    pub elements: &'static [GraphElement],
+    /// Bonds in declaration order.
+    pub bonds: &'static [GraphBond],
+}

@@ -1,0 +1,49 @@
+//! The contract between generated (or hand-written) models and the solvers.
+
+use crate::graph::CausalGraph;
+use crate::scalar::Scalar;
+
+/// A system of ordinary differential equations `dx/dt = f(t, x)` with named states and
+/// named outputs `y = g(t, x)`.
+///
+/// `bond_graph!` implements this trait for every model it generates; it can also be
+/// implemented by hand. The derivative and output functions are generic over the scalar
+/// type so that the same code is evaluated on `f64` and on dual numbers.
+///
+/// Slices passed to [`Model::derivatives`] and [`Model::outputs`] have exactly
+/// [`Model::N_STATES`] and [`Model::N_OUTPUTS`] elements; the solvers guarantee it and an
+/// implementation may panic otherwise.
+pub trait Model {
+    /// The model's parameters (for a generated model: a struct with one `f64` field per
+    /// `param`, `Default` from the declared values).
+    type Params: Clone + core::fmt::Debug + Default;
+
+    /// The model's name as declared.
+    const NAME: &'static str;
+    /// State names in the order of the state vector, e.g. `"spring.q"`.
+    const STATE_NAMES: &'static [&'static str];
+    /// Output names in the order of the output vector.
+    const OUTPUT_NAMES: &'static [&'static str];
+    /// Length of the state vector.
+    const N_STATES: usize = Self::STATE_NAMES.len();
+    /// Length of the output vector.
+    const N_OUTPUTS: usize = Self::OUTPUT_NAMES.len();
+
+    /// The parameters the model evaluates with.
+    fn params(&self) -> &Self::Params;
+
+    /// Writes the declared initial conditions (which may depend on the parameters) into
+    /// `x0`.
+    fn initial_state(&self, x0: &mut [f64]);
+
+    /// Writes `dx/dt` at time `t` and state `x` into `dx`.
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]);
+
+    /// Writes the outputs at time `t` and state `x` into `y`.
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]);
+
+    /// The causal bond graph the model was generated from, if it has one.
+    fn causal_graph(&self) -> Option<&'static CausalGraph> {
+        None
+    }
+}

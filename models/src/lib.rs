@@ -1,0 +1,1 @@
+//! Models written with `bond_graph!`.
