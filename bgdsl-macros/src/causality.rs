@@ -1,0 +1,444 @@
+//! Stage 3: sequential causality assignment (SCAP, Karnopp & Rosenberg).
+//!
+//! Order: sources, then storage elements one at a time in integral causality, then
+//! resistors, then whatever bonds are left; after each choice the consequences are
+//! propagated through junctions, transformers and gyrators. Every stroke remembers
+//! which choice forced it (its root) and through which bond, so a conflict names both
+//! parties and a derivative causality names the path that forced it.
+//!
+//! A choice that leads to a conflict is rolled back, so each reported mistake is
+//! independent of the others.
+
+use std::collections::VecDeque;
+
+use crate::ir::{BondId, ElementId, ElementKind, Graph};
+
+/// What each element ended up with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElementCausality {
+    /// Storage integrating its input.
+    Integral,
+    /// Resistor computing effort from flow.
+    Resistance,
+    /// Resistor computing flow from effort.
+    Conductance,
+    /// Sources, junctions, TF and GY: nothing to choose.
+    Fixed,
+}
+
+/// The result of causality assignment.
+#[derive(Debug)]
+pub struct Causality {
+    /// For each bond, the element at its causal-stroke end: the element the effort acts
+    /// on, which answers with the flow.
+    pub stroke_at: Vec<ElementId>,
+    /// For each element, its causality.
+    pub element: Vec<ElementCausality>,
+}
+
+/// A mistake SCAP found, as data; [`render`] turns it into a message.
+#[derive(Debug, PartialEq, Eq)]
+pub enum CausalityError {
+    /// `second` needs a causality that `first` has already imposed the other way.
+    Conflict {
+        /// The element whose requirement could not be met.
+        second: ElementId,
+        /// The element whose earlier choice fixed it.
+        first: ElementId,
+        /// The junction or two-port where the two meet, if not on `second`'s bond.
+        at: Option<ElementId>,
+    },
+    /// A storage element pushed into derivative causality.
+    Derivative {
+        /// The storage element.
+        element: ElementId,
+        /// The elements from the one that forced it to it, both ends included.
+        path: Vec<ElementId>,
+    },
+    /// A resistor whose causality needs the form of its law that is not given.
+    MissingForm {
+        /// The resistor.
+        element: ElementId,
+        /// Whether it must compute its flow (`f = ...e...`) rather than its effort.
+        needs_flow_form: bool,
+        /// The element whose choice fixed it.
+        forced_by: ElementId,
+    },
+    /// A junction that ends with no bond, or two, setting its common variable.
+    Junction {
+        /// The junction.
+        junction: ElementId,
+        /// How many bonds set its common variable.
+        setters: usize,
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Stroke {
+    at: ElementId,
+    /// The element whose choice this stroke follows from.
+    root: ElementId,
+    /// The stroke that triggered this one, and the element that propagated it.
+    cause: Option<(BondId, ElementId)>,
+}
+
+/// Assigns causality to every bond, or reports every independent mistake.
+pub fn assign(graph: &Graph) -> Result<Causality, Vec<CausalityError>> {
+    let mut scap = Scap {
+        graph,
+        strokes: vec![None; graph.bonds.len()],
+        queue: VecDeque::new(),
+        trail: Vec::new(),
+        errors: Vec::new(),
+    };
+    let of_kind = |kinds: &[ElementKind]| -> Vec<ElementId> {
+        graph
+            .element_ids()
+            .filter(|&id| kinds.contains(&graph.element(id).kind))
+            .collect()
+    };
+    for id in of_kind(&[ElementKind::Se, ElementKind::Sf]) {
+        scap.choose_one_port(id);
+    }
+    for id in of_kind(&[ElementKind::C, ElementKind::I]) {
+        scap.choose_one_port(id);
+    }
+    for id in of_kind(&[ElementKind::R]) {
+        scap.choose_one_port(id);
+    }
+    // Bonds between junctions and two-ports that nothing has fixed: an arbitrary
+    // (deterministic) choice, as SCAP prescribes.
+    for bond in graph.bond_ids() {
+        if scap.strokes[bond.0].is_none() {
+            let to = graph.bond(bond).to;
+            scap.choose(bond, to, to);
+        }
+    }
+    scap.finish()
+}
+
+/// The stroke a one-port prefers, before anything is propagated.
+fn preferred_stroke(graph: &Graph, id: ElementId, bond: BondId) -> ElementId {
+    let element = graph.element(id);
+    let other = graph.bond(bond).other(id);
+    match element.kind {
+        // Imposes its effort: the other end receives it.
+        ElementKind::Se | ElementKind::C => other,
+        // Imposes its flow: it receives the effort.
+        ElementKind::Sf | ElementKind::I => id,
+        ElementKind::R if element.law.has_effort_form() => other,
+        _ => id,
+    }
+}
+
+struct Scap<'g> {
+    graph: &'g Graph,
+    strokes: Vec<Option<Stroke>>,
+    queue: VecDeque<BondId>,
+    /// Bonds assigned by the choice being propagated, to roll back on conflict.
+    trail: Vec<BondId>,
+    errors: Vec<CausalityError>,
+}
+
+/// Two requirements met at `at`: the one already there came from `first`.
+struct Clash {
+    first: ElementId,
+    at: Option<ElementId>,
+}
+
+impl Scap<'_> {
+    fn choose_one_port(&mut self, id: ElementId) {
+        let Some(&bond) = self.graph.element(id).bonds.first() else { return };
+        let wanted = preferred_stroke(self.graph, id, bond);
+        match self.strokes[bond.0] {
+            None => self.choose(bond, wanted, id),
+            Some(stroke) if stroke.at == wanted => {}
+            Some(stroke) => {
+                let error = match self.graph.element(id).kind {
+                    ElementKind::C | ElementKind::I => CausalityError::Derivative {
+                        element: id,
+                        path: self.path_to(bond, id),
+                    },
+                    ElementKind::R => CausalityError::MissingForm {
+                        element: id,
+                        needs_flow_form: stroke.at == id,
+                        forced_by: stroke.root,
+                    },
+                    _ => CausalityError::Conflict {
+                        second: id,
+                        first: stroke.root,
+                        at: None,
+                    },
+                };
+                self.errors.push(error);
+            }
+        }
+    }
+
+    /// Makes one choice and propagates it; on a clash, undoes it and reports.
+    fn choose(&mut self, bond: BondId, at: ElementId, root: ElementId) {
+        self.trail.clear();
+        self.queue.clear();
+        self.set(bond, at, root, None);
+        if let Err(clash) = self.propagate() {
+            for undone in self.trail.drain(..) {
+                self.strokes[undone.0] = None;
+            }
+            self.errors.push(CausalityError::Conflict {
+                second: root,
+                first: clash.first,
+                at: clash.at,
+            });
+        }
+    }
+
+    fn set(&mut self, bond: BondId, at: ElementId, root: ElementId, cause: Option<(BondId, ElementId)>) {
+        self.strokes[bond.0] = Some(Stroke { at, root, cause });
+        self.trail.push(bond);
+        self.queue.push_back(bond);
+    }
+
+    fn propagate(&mut self) -> Result<(), Clash> {
+        while let Some(bond) = self.queue.pop_front() {
+            let b = self.graph.bond(bond);
+            for end in [b.from, b.to] {
+                match self.graph.element(end).kind {
+                    ElementKind::Zero | ElementKind::One => self.junction_rule(end, bond)?,
+                    ElementKind::Tf | ElementKind::Gy => self.two_port_rule(end, bond)?,
+                    _ => {}
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether `bond` sets the common variable of `junction`: the effort of a
+    /// 0-junction comes in on the bond whose stroke is at the junction; the flow of a
+    /// 1-junction comes in on the bond whose stroke is at the other end.
+    fn sets_common(&self, junction: ElementId, stroke_at: ElementId) -> bool {
+        let at_junction = stroke_at == junction;
+        match self.graph.element(junction).kind {
+            ElementKind::Zero => at_junction,
+            _ => !at_junction,
+        }
+    }
+
+    fn junction_rule(&mut self, junction: ElementId, trigger: BondId) -> Result<(), Clash> {
+        let bonds = &self.graph.element(junction).bonds;
+        let mut setters = Vec::new();
+        let mut free = Vec::new();
+        for &bond in bonds {
+            match self.strokes[bond.0] {
+                Some(stroke) if self.sets_common(junction, stroke.at) => setters.push(stroke),
+                Some(_) => {}
+                None => free.push(bond),
+            }
+        }
+        let root = self.strokes[trigger.0].map_or(junction, |s| s.root);
+        let cause = Some((trigger, junction));
+        match (setters.len(), free.len()) {
+            (0, 0) => Err(Clash {
+                first: root,
+                at: Some(junction),
+            }),
+            (0, 1) => {
+                // The last free bond must set the common variable.
+                let bond = free[0];
+                let other = self.graph.bond(bond).other(junction);
+                let at = if self.sets_common(junction, junction) { junction } else { other };
+                self.set(bond, at, root, cause);
+                Ok(())
+            }
+            (0, _) => Ok(()),
+            (1, _) => {
+                for bond in free {
+                    let other = self.graph.bond(bond).other(junction);
+                    let at = if self.sets_common(junction, junction) { other } else { junction };
+                    self.set(bond, at, root, cause);
+                }
+                Ok(())
+            }
+            _ => {
+                let first = setters.iter().map(|s| s.root).find(|&r| r != root).unwrap_or(setters[0].root);
+                Err(Clash {
+                    first,
+                    at: Some(junction),
+                })
+            }
+        }
+    }
+
+    fn two_port_rule(&mut self, two_port: ElementId, trigger: BondId) -> Result<(), Clash> {
+        let element = self.graph.element(two_port);
+        let (port1, port2) = (element.bonds[0], element.bonds[1]);
+        let gyrator = element.kind == ElementKind::Gy;
+        // A TF passes effort through (exactly one port receives effort), a GY turns it
+        // into flow (both ports receive effort, or neither).
+        let partner_at = |stroke_at: ElementId, partner: BondId| {
+            let receives = stroke_at == two_port;
+            let partner_receives = if gyrator { receives } else { !receives };
+            if partner_receives {
+                two_port
+            } else {
+                self.graph.bond(partner).other(two_port)
+            }
+        };
+        let (this, partner) = if trigger == port1 { (port1, port2) } else { (port2, port1) };
+        let Some(stroke) = self.strokes[this.0] else { return Ok(()) };
+        let wanted = partner_at(stroke.at, partner);
+        match self.strokes[partner.0] {
+            None => {
+                self.set(partner, wanted, stroke.root, Some((this, two_port)));
+                Ok(())
+            }
+            Some(existing) if existing.at == wanted => Ok(()),
+            Some(existing) => Err(Clash {
+                first: if existing.root != stroke.root { existing.root } else { stroke.root },
+                at: Some(two_port),
+            }),
+        }
+    }
+
+    /// The elements from the choice that fixed `bond` to `target`.
+    fn path_to(&self, bond: BondId, target: ElementId) -> Vec<ElementId> {
+        let mut path = vec![target];
+        let mut current = self.strokes[bond.0];
+        while let Some(stroke) = current {
+            match stroke.cause {
+                Some((parent, via)) => {
+                    path.push(via);
+                    current = self.strokes[parent.0];
+                }
+                None => {
+                    if path.last() != Some(&stroke.root) {
+                        path.push(stroke.root);
+                    }
+                    break;
+                }
+            }
+        }
+        path.reverse();
+        path
+    }
+
+    fn finish(mut self) -> Result<Causality, Vec<CausalityError>> {
+        let graph = self.graph;
+        if self.errors.is_empty() {
+            for junction in graph.element_ids() {
+                if !matches!(graph.element(junction).kind, ElementKind::Zero | ElementKind::One) {
+                    continue;
+                }
+                let setters = graph
+                    .element(junction)
+                    .bonds
+                    .iter()
+                    .filter(|b| self.strokes[b.0].is_some_and(|s| self.sets_common(junction, s.at)))
+                    .count();
+                if setters != 1 {
+                    self.errors.push(CausalityError::Junction { junction, setters });
+                }
+            }
+        }
+        if !self.errors.is_empty() {
+            return Err(self.errors);
+        }
+        let stroke_at: Vec<ElementId> = self
+            .strokes
+            .iter()
+            .map(|s| s.map_or(ElementId(0), |s| s.at))
+            .collect();
+        let element = graph
+            .element_ids()
+            .map(|id| match graph.element(id).kind {
+                ElementKind::C | ElementKind::I => ElementCausality::Integral,
+                ElementKind::R => {
+                    let bond = graph.element(id).bonds[0];
+                    if stroke_at[bond.0] == id {
+                        ElementCausality::Conductance
+                    } else {
+                        ElementCausality::Resistance
+                    }
+                }
+                _ => ElementCausality::Fixed,
+            })
+            .collect();
+        Ok(Causality { stroke_at, element })
+    }
+}
+
+/// Turns a causality mistake into a message at the user's text.
+pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
+    let name = |id: ElementId| graph.describe(id);
+    let span = |id: ElementId| graph.element(id).name.span();
+    match error {
+        CausalityError::Conflict { second, first, at } => {
+            let place = at.map_or(String::new(), |j| format!(" at {}", name(j)));
+            let what = match graph.element(*second).kind {
+                ElementKind::Se => "effort",
+                ElementKind::Sf => "flow",
+                _ => "causality",
+            };
+            let mut e = syn::Error::new(
+                span(*second),
+                format!(
+                    "causal conflict{place}: {} cannot impose its {what}, because {} already fixes it; \
+                     two sources (or a source and a storage element) cannot fix the same variable: \
+                     remove one, or put an element that can absorb the difference (C, I or R) between them",
+                    name(*second),
+                    name(*first)
+                ),
+            );
+            e.combine(syn::Error::new(span(*first), format!("note: {} fixes it here", name(*first))));
+            e
+        }
+        CausalityError::Derivative { element, path } => {
+            let forced_by = path.first().copied().unwrap_or(*element);
+            let route: Vec<String> = path.iter().map(|&id| graph.element(id).name.to_string()).collect();
+            let kind = graph.element(*element).kind;
+            let mend = match (kind, graph.element(forced_by).kind) {
+                (ElementKind::I, ElementKind::I) => "the two inertias are rigidly tied; put a compliance (a C, with an R for damping) between them, as the paper does with its compliant joints, or merge them into one I",
+                (ElementKind::C, ElementKind::C) => "the two compliances share one variable; put a resistance (R) or an inertia (I) between them, or merge them into one C",
+                (ElementKind::I, _) => "its flow is fixed from outside; put a compliance (C, with an R for damping) between it and what fixes it",
+                _ => "its effort is fixed from outside; put a resistance (R) or an inertia (I) between it and what fixes it",
+            };
+            let mut e = syn::Error::new(
+                span(*element),
+                format!(
+                    "{} is forced into derivative causality by {} (path: {}); {mend}",
+                    name(*element),
+                    name(forced_by),
+                    route.join(" -> ")
+                ),
+            );
+            if forced_by != *element {
+                e.combine(syn::Error::new(span(forced_by), format!("note: {} takes integral causality here first", name(forced_by))));
+            }
+            e
+        }
+        CausalityError::MissingForm { element, needs_flow_form, forced_by } => {
+            let el = &graph.element(*element).name;
+            let (given, needed) = if *needs_flow_form {
+                ("e = φ(f)", format!("its flow from its effort: add `f = ...e...` to `R {el} {{ ... }}`"))
+            } else {
+                ("f = φ(e)", format!("its effort from its flow: add `e = ...f...` to `R {el} {{ ... }}`"))
+            };
+            let mut e = syn::Error::new(
+                span(*element),
+                format!(
+                    "R `{el}` gives its law only as {given}, but its causality (fixed by {}) needs {needed}",
+                    name(*forced_by)
+                ),
+            );
+            e.combine(syn::Error::new(span(*forced_by), format!("note: {} fixes that causality", name(*forced_by))));
+            e
+        }
+        CausalityError::Junction { junction, setters } => syn::Error::new(
+            span(*junction),
+            format!(
+                "{} has {setters} bonds setting its common {}, but needs exactly one; check the elements around it",
+                name(*junction),
+                if graph.element(*junction).kind == ElementKind::Zero { "effort" } else { "flow" }
+            ),
+        ),
+    }
+}

@@ -1,0 +1,399 @@
+//! Stage 5: Rust code for a model: the parameter struct, typed state and output
+//! structs, the causal-graph description and the `Model` implementation whose
+//! functions are straight-line code in the order the equations stage chose.
+//!
+//! Every path is absolute (`::core::...`, `::bgdsl_runtime::...`) so the expansion
+//! compiles in any scope; user expressions keep their spans so type errors land on
+//! the user's text.
+
+use proc_macro2::{Span, TokenStream};
+use quote::{format_ident, quote, quote_spanned};
+use syn::{Expr, ExprLit, Ident, Lit, LitFloat, Visibility};
+
+use crate::causality::{Causality, ElementCausality};
+use crate::equations::{Equations, Rhs};
+use crate::ir::{ElementKind, Graph};
+use crate::rewrite::term_tokens;
+use crate::signals::Term;
+
+/// The generated items of a model that compiled.
+pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> TokenStream {
+    let vis = &graph.vis;
+    let name = &graph.name;
+    let params_struct = params_struct(graph);
+    let params_ident = params_ident(name);
+    let state_names: Vec<String> = equations
+        .states
+        .iter()
+        .map(|s| format!("{}.{}", graph.element(s.element).name, s.var))
+        .collect();
+    let output_names: Vec<String> = graph.outputs.iter().map(|o| o.name.to_string()).collect();
+    let n_states = state_names.len();
+    let n_outputs = output_names.len();
+    let state_fields: Vec<Ident> = equations
+        .states
+        .iter()
+        .map(|s| format_ident!("{}_{}", graph.element(s.element).name, s.var))
+        .collect();
+    let state_docs: Vec<String> = state_names.iter().map(|n| format!("`{n}`")).collect();
+    let output_fields: Vec<&Ident> = graph.outputs.iter().map(|o| &o.name).collect();
+    let state_struct = format_ident!("{}State", name);
+    let outputs_struct = format_ident!("{}Outputs", name);
+    let record_struct_state = record_struct(vis, &state_struct, &format!("The state of [`{name}`], by name."), &state_fields, &state_docs);
+    let output_docs: Vec<String> = graph
+        .outputs
+        .iter()
+        .map(|o| doc_text(&o.attrs).unwrap_or_else(|| format!("Output `{}`.", o.name)))
+        .collect();
+    let record_struct_outputs =
+        record_struct(vis, &outputs_struct, &format!("The outputs of [`{name}`], by name."), &output_fields, &output_docs);
+    let graph_const = graph_description(graph, causality);
+    let body = evaluation_body(graph, equations);
+    let derivatives: Vec<TokenStream> = equations
+        .states
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let value = term_tokens(s.derivative, Span::call_site());
+            quote!(__dx[#i] = #value;)
+        })
+        .collect();
+    let outputs: Vec<TokenStream> = equations
+        .outputs
+        .iter()
+        .enumerate()
+        .map(|(i, o)| {
+            let expr = &o.expr;
+            quote!(__y[#i] = #expr;)
+        })
+        .collect();
+    let initial = initial_state(graph, equations);
+    let param_names: Vec<&Ident> = graph.params.iter().map(|p| &p.name).collect();
+    let model_doc = if graph.attrs.iter().any(|a| a.path().is_ident("doc")) {
+        quote!()
+    } else {
+        let text = format!("The bond-graph model `{name}`.");
+        quote!(#[doc = #text])
+    };
+    let attrs = &graph.attrs;
+    let name_str = name.to_string();
+    quote! {
+        #params_struct
+
+        #(#attrs)*
+        #model_doc
+        #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #vis struct #name {
+            /// The parameters the model evaluates with.
+            pub params: #params_ident,
+        }
+
+        impl #name {
+            /// The number of states.
+            pub const N_STATES: usize = #n_states;
+            /// The number of outputs.
+            pub const N_OUTPUTS: usize = #n_outputs;
+            #graph_const
+
+            /// The model with the given parameters.
+            pub const fn new(params: #params_ident) -> Self {
+                Self { params }
+            }
+        }
+
+        #record_struct_state
+        #record_struct_outputs
+
+        #[automatically_derived]
+        impl ::bgdsl_runtime::Model for #name {
+            type Params = #params_ident;
+            const NAME: &'static str = #name_str;
+            const STATE_NAMES: &'static [&'static str] = &[#(#state_names),*];
+            const OUTPUT_NAMES: &'static [&'static str] = &[#(#output_names),*];
+
+            fn params(&self) -> &#params_ident {
+                &self.params
+            }
+
+            #[allow(unused_variables, clippy::all)]
+            fn initial_state(&self, __x0: &mut [f64]) {
+                ::core::assert_eq!(__x0.len(), #n_states, "state vector length");
+                #( let #param_names: f64 = self.params.#param_names; )*
+                #initial
+            }
+
+            #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
+            #[inline]
+            fn derivatives<__T: ::bgdsl_runtime::Scalar>(&self, __t: f64, __x: &[__T], __dx: &mut [__T]) {
+                ::core::assert_eq!(__x.len(), #n_states, "state vector length");
+                ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
+                #body
+                #(#derivatives)*
+            }
+
+            #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
+            fn outputs<__T: ::bgdsl_runtime::Scalar>(&self, __t: f64, __x: &[__T], __y: &mut [__T]) {
+                ::core::assert_eq!(__x.len(), #n_states, "state vector length");
+                ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
+                #body
+                #(#outputs)*
+            }
+
+            fn causal_graph(&self) -> ::core::option::Option<&'static ::bgdsl_runtime::CausalGraph> {
+                ::core::option::Option::Some(&Self::GRAPH)
+            }
+        }
+    }
+}
+
+/// What the macro emits for a model with mistakes: the types with the right names, so
+/// the user's other code that names them does not drown in follow-on errors.
+pub fn stub(vis: &Visibility, name: &Ident) -> TokenStream {
+    let params_ident = params_ident(name);
+    let name_str = name.to_string();
+    quote! {
+        #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #vis struct #params_ident {}
+        #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #vis struct #name {
+            pub params: #params_ident,
+        }
+        impl ::bgdsl_runtime::Model for #name {
+            type Params = #params_ident;
+            const NAME: &'static str = #name_str;
+            const STATE_NAMES: &'static [&'static str] = &[];
+            const OUTPUT_NAMES: &'static [&'static str] = &[];
+            fn params(&self) -> &#params_ident {
+                &self.params
+            }
+            fn initial_state(&self, _: &mut [f64]) {}
+            fn derivatives<__T: ::bgdsl_runtime::Scalar>(&self, _: f64, _: &[__T], _: &mut [__T]) {}
+            fn outputs<__T: ::bgdsl_runtime::Scalar>(&self, _: f64, _: &[__T], _: &mut [__T]) {}
+        }
+    }
+}
+
+fn params_ident(name: &Ident) -> Ident {
+    format_ident!("{}Params", name)
+}
+
+fn doc_text(attrs: &[syn::Attribute]) -> Option<String> {
+    let lines: Vec<String> = attrs
+        .iter()
+        .filter(|a| a.path().is_ident("doc"))
+        .filter_map(|a| match &a.meta {
+            syn::Meta::NameValue(nv) => match &nv.value {
+                Expr::Lit(ExprLit { lit: Lit::Str(s), .. }) => Some(s.value().trim().to_string()),
+                _ => None,
+            },
+            _ => None,
+        })
+        .collect();
+    (!lines.is_empty()).then(|| lines.join("\n"))
+}
+
+/// A parameter default in `f64`: a bare integer literal is read as a float.
+fn f64_expr(expr: &Expr) -> TokenStream {
+    match expr {
+        Expr::Lit(ExprLit { lit: Lit::Int(int), .. }) if int.suffix().is_empty() => {
+            let float = LitFloat::new(&format!("{}.0", int.base10_digits()), int.span());
+            quote!(#float)
+        }
+        other => quote!(#other),
+    }
+}
+
+fn params_struct(graph: &Graph) -> TokenStream {
+    let vis = &graph.vis;
+    let ident = params_ident(&graph.name);
+    let doc = format!("Parameters of [`{}`], with the declared values as defaults.", graph.name);
+    let fields = graph.params.iter().map(|p| {
+        let name = &p.name;
+        let attrs = &p.attrs;
+        let default = &p.default;
+        let default_text = quote!(#default).to_string();
+        let doc = if doc_text(attrs).is_some() {
+            format!("\n\nDefault: `{default_text}`.")
+        } else {
+            format!("Parameter `{name}`; default `{default_text}`.")
+        };
+        quote!(#(#attrs)* #[doc = #doc] pub #name: f64,)
+    });
+    let names: Vec<&Ident> = graph.params.iter().map(|p| &p.name).collect();
+    let defaults = graph.params.iter().map(|p| f64_expr(&p.default));
+    quote! {
+        #[doc = #doc]
+        #[derive(
+            ::core::clone::Clone,
+            ::core::fmt::Debug,
+            ::core::cmp::PartialEq,
+            ::bgdsl_runtime::__private::serde::Serialize,
+            ::bgdsl_runtime::__private::serde::Deserialize,
+        )]
+        #[serde(crate = "::bgdsl_runtime::__private::serde", default, deny_unknown_fields)]
+        #vis struct #ident {
+            #(#fields)*
+        }
+
+        #[automatically_derived]
+        impl ::core::default::Default for #ident {
+            #[allow(clippy::all)]
+            fn default() -> Self {
+                #( let #names: f64 = #defaults; )*
+                Self { #(#names),* }
+            }
+        }
+    }
+}
+
+fn record_struct(vis: &Visibility, ident: &Ident, doc: &str, fields: &[impl quote::ToTokens], docs: &[String]) -> TokenStream {
+    let n = fields.len();
+    let indices = 0..n;
+    let indices2 = 0..n;
+    quote! {
+        #[doc = #doc]
+        #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #vis struct #ident<T> {
+            #( #[doc = #docs] pub #fields: T, )*
+        }
+
+        impl<T: ::core::marker::Copy> #ident<T> {
+            /// Reads the values in vector order. Panics if `values` has the wrong length.
+            #[allow(unused_variables)]
+            pub fn from_slice(values: &[T]) -> Self {
+                ::core::assert_eq!(values.len(), #n, "vector length");
+                Self { #( #fields: values[#indices], )* }
+            }
+
+            /// Writes the values in vector order. Panics if `values` has the wrong length.
+            #[allow(unused_variables)]
+            pub fn write_to(&self, values: &mut [T]) {
+                ::core::assert_eq!(values.len(), #n, "vector length");
+                #( values[#indices2] = self.#fields; )*
+            }
+        }
+    }
+}
+
+fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
+    let assignments = equations.states.iter().enumerate().map(|(i, state)| {
+        match graph.inits.iter().find(|init| init.element == state.element) {
+            Some(init) => {
+                let value = f64_expr(&init.value);
+                quote!(__x0[#i] = #value;)
+            }
+            None => quote!(__x0[#i] = 0.0;),
+        }
+    });
+    quote!(#(#assignments)*)
+}
+
+/// Binds time, parameters and states, then computes every bond variable in order.
+fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
+    let scalar = quote!(<__T as ::bgdsl_runtime::Scalar>);
+    let time = Ident::new("t", Span::call_site());
+    let params = graph.params.iter().map(|p| {
+        let name = &p.name;
+        quote!(let #name: __T = #scalar::from_f64(self.params.#name);)
+    });
+    let states = (0..equations.states.len()).map(|i| {
+        let ident = crate::signals::Signal::State(i).ident(Span::call_site());
+        quote!(let #ident: __T = __x[#i];)
+    });
+    let assignments = equations.ordered.iter().map(|eq| {
+        let span = graph.element(eq.element).name.span();
+        let target = eq.defines.ident(span);
+        let value = match &eq.rhs {
+            Rhs::Law { negate, bindings, expr } => {
+                let binds = bindings.iter().map(|(var, term)| {
+                    let var = Ident::new(var, Span::call_site());
+                    let term = term_tokens(*term, span);
+                    quote!(let #var: __T = #term;)
+                });
+                let sign = negate.then(|| quote!(-));
+                quote_spanned!(span=> #sign { #(#binds)* #expr })
+            }
+            Rhs::Sum(terms) => sum(terms, span),
+            Rhs::Scaled { term, modulus, divide } => {
+                let term = term_tokens(*term, span);
+                if *divide {
+                    quote_spanned!(span=> #term / (#modulus))
+                } else {
+                    quote_spanned!(span=> #term * (#modulus))
+                }
+            }
+        };
+        quote!(let #target: __T = #value;)
+    });
+    quote! {
+        let #time: __T = #scalar::from_f64(__t);
+        #(#params)*
+        #(#states)*
+        #(#assignments)*
+    }
+}
+
+fn sum(terms: &[Term], span: Span) -> TokenStream {
+    let mut tokens = TokenStream::new();
+    for (i, term) in terms.iter().enumerate() {
+        let ident = term.signal.ident(span);
+        tokens.extend(match (i, term.negate) {
+            (0, false) => quote!(#ident),
+            (0, true) => quote!(-#ident),
+            (_, false) => quote!(+ #ident),
+            (_, true) => quote!(- #ident),
+        });
+    }
+    if terms.is_empty() {
+        quote!(<__T as ::bgdsl_runtime::Scalar>::from_f64(0.0))
+    } else {
+        tokens
+    }
+}
+
+fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
+    let rt = quote!(::bgdsl_runtime);
+    let model = graph.name.to_string();
+    let elements = graph.element_ids().map(|id| {
+        let element = graph.element(id);
+        let name = element.name.to_string();
+        let kind = match element.kind {
+            ElementKind::Se => quote!(Se),
+            ElementKind::Sf => quote!(Sf),
+            ElementKind::C => quote!(C),
+            ElementKind::I => quote!(I),
+            ElementKind::R => quote!(R),
+            ElementKind::Tf => quote!(Tf),
+            ElementKind::Gy => quote!(Gy),
+            ElementKind::Zero => quote!(Zero),
+            ElementKind::One => quote!(One),
+        };
+        let element_causality = match causality.element[id.0] {
+            ElementCausality::Integral => quote!(Integral),
+            ElementCausality::Resistance => quote!(Resistance),
+            ElementCausality::Conductance => quote!(Conductance),
+            ElementCausality::Fixed => quote!(Fixed),
+        };
+        quote!(#rt::GraphElement { name: #name, kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
+    });
+    let bonds = graph.bond_ids().map(|id| {
+        let bond = graph.bond(id);
+        let label = match &bond.label {
+            Some(label) => {
+                let label = label.to_string();
+                quote!(::core::option::Option::Some(#label))
+            }
+            None => quote!(::core::option::Option::None),
+        };
+        let (from, to, stroke) = (bond.from.0, bond.to.0, causality.stroke_at[id.0].0);
+        quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: 1, stroke_at: #stroke })
+    });
+    quote! {
+        /// The causal bond graph this model was generated from.
+        pub const GRAPH: #rt::CausalGraph = #rt::CausalGraph {
+            model: #model,
+            elements: &[#(#elements),*],
+            bonds: &[#(#bonds),*],
+        };
+    }
+}

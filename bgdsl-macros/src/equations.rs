@@ -1,0 +1,379 @@
+//! Stage 4: from the causal graph to equations in computation order.
+//!
+//! Each element contributes the assignments its causality dictates (a C in integral
+//! causality computes its bond's effort from its state, a 1-junction whose flow comes in
+//! on bond s computes s's effort as the signed sum of the others, ...). The assignments
+//! are then ordered so that each is computed after what it reads; a cycle is an
+//! algebraic loop and is reported with the elements on it.
+
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap};
+
+use syn::Expr;
+
+use crate::causality::Causality;
+use crate::errors::Errors;
+use crate::ir::{BondId, ElementId, ElementKind, Graph, Law};
+use crate::rewrite::{rewrite, Rewritten, Scope};
+use crate::signals::{Signal, Term};
+
+/// A state of the model: the integral of a storage element's input.
+pub struct State {
+    /// The storage element.
+    pub element: ElementId,
+    /// `q` for a C, `p` for an I.
+    pub var: &'static str,
+    /// What its time derivative equals.
+    pub derivative: Term,
+}
+
+/// The right-hand side of one assignment.
+pub enum Rhs {
+    /// A law written by the user, evaluated with the element's own variables bound.
+    Law {
+        /// Whether the law's value enters negated (a bond against the port's direction).
+        negate: bool,
+        /// `let q = <term>;` and the like, before the expression.
+        bindings: Vec<(&'static str, Term)>,
+        /// The rewritten expression.
+        expr: Expr,
+    },
+    /// A sum of signed terms (junction equations; one term is a copy).
+    Sum(Vec<Term>),
+    /// `term * modulus` or `term / modulus` (linear laws, TF, GY).
+    Scaled {
+        /// The variable scaled.
+        term: Term,
+        /// The rewritten coefficient expression.
+        modulus: Expr,
+        /// Divide instead of multiply (the law used inverted).
+        divide: bool,
+    },
+}
+
+/// One assignment `defines = rhs`.
+pub struct Equation {
+    /// The variable it computes.
+    pub defines: Signal,
+    /// The element it comes from.
+    pub element: ElementId,
+    /// How it is computed.
+    pub rhs: Rhs,
+    /// Every signal it reads.
+    pub deps: Vec<Signal>,
+}
+
+/// Everything the code generator needs to write the model's functions.
+pub struct Equations {
+    /// States in order of the state vector (storage elements in declaration order).
+    pub states: Vec<State>,
+    /// Assignments in an order where each comes after what it reads.
+    pub ordered: Vec<Equation>,
+    /// The outputs' rewritten expressions, in declaration order.
+    pub outputs: Vec<Rewritten>,
+}
+
+/// Derives and orders the equations, or reports algebraic loops and bad references.
+pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
+    let mut errors = Errors::default();
+    let mut state_of = vec![None; graph.elements.len()];
+    let mut states = Vec::new();
+    for id in graph.element_ids() {
+        let element = graph.element(id);
+        let var = match element.kind {
+            ElementKind::C => "q",
+            ElementKind::I => "p",
+            _ => continue,
+        };
+        let bond = element.bonds[0];
+        let negate = !graph.bond(bond).points_into(id);
+        let derivative = match element.kind {
+            ElementKind::C => Term::signed(negate, Signal::Flow(bond)),
+            _ => Term::plus(Signal::Effort(bond)),
+        };
+        state_of[id.0] = Some(states.len());
+        states.push(State {
+            element: id,
+            var,
+            derivative,
+        });
+    }
+    let mut builder = Builder {
+        graph,
+        causality,
+        state_of: &state_of,
+        errors: &mut errors,
+        equations: Vec::new(),
+    };
+    for id in graph.element_ids() {
+        builder.element(id);
+    }
+    let equations = builder.equations;
+    let outputs = graph
+        .outputs
+        .iter()
+        .map(|output| {
+            let scope = Scope {
+                graph,
+                state_of: &state_of,
+                own: &[],
+                context: format!("the output `{}`", output.name),
+            };
+            rewrite(&output.expr, &scope, &mut errors)
+        })
+        .collect();
+    errors.finish()?;
+    let ordered = order(graph, equations)?;
+    Ok(Equations {
+        states,
+        ordered,
+        outputs,
+    })
+}
+
+struct Builder<'a> {
+    graph: &'a Graph,
+    causality: &'a Causality,
+    state_of: &'a [Option<usize>],
+    errors: &'a mut Errors,
+    equations: Vec<Equation>,
+}
+
+impl Builder<'_> {
+    fn stroke_at(&self, bond: BondId) -> ElementId {
+        self.causality.stroke_at[bond.0]
+    }
+
+    fn push(&mut self, defines: Signal, element: ElementId, rhs: Rhs, extra_deps: Vec<Signal>) {
+        let mut deps = extra_deps;
+        let mut add = |s: Signal| {
+            if !deps.contains(&s) {
+                deps.push(s);
+            }
+        };
+        match &rhs {
+            Rhs::Law { bindings, .. } => bindings.iter().for_each(|(_, t)| add(t.signal)),
+            Rhs::Sum(terms) => terms.iter().for_each(|t| add(t.signal)),
+            Rhs::Scaled { term, .. } => add(term.signal),
+        }
+        self.equations.push(Equation {
+            defines,
+            element,
+            rhs,
+            deps,
+        });
+    }
+
+    fn rewrite(&mut self, id: ElementId, expr: &Expr, own: &'static [&'static str]) -> Rewritten {
+        let scope = Scope {
+            graph: self.graph,
+            state_of: self.state_of,
+            own,
+            context: format!("the law of {}", self.graph.describe(id)),
+        };
+        rewrite(expr, &scope, self.errors)
+    }
+
+    /// A user law in a given form, as an assignment.
+    fn law(&mut self, id: ElementId, defines: Signal, negate: bool, own: &'static str, bound: Term, expr: &Expr) {
+        let own_vars: &'static [&'static str] = match own {
+            "q" => &["q"],
+            "p" => &["p"],
+            "e" => &["e"],
+            _ => &["f"],
+        };
+        let rewritten = self.rewrite(id, expr, own_vars);
+        let rhs = Rhs::Law {
+            negate,
+            bindings: vec![(own, bound)],
+            expr: rewritten.expr,
+        };
+        self.push(defines, id, rhs, rewritten.deps);
+    }
+
+    fn scaled(&mut self, id: ElementId, defines: Signal, term: Term, modulus: &Expr, divide: bool) {
+        let rewritten = self.rewrite(id, modulus, &[]);
+        let rhs = Rhs::Scaled {
+            term,
+            modulus: rewritten.expr,
+            divide,
+        };
+        self.push(defines, id, rhs, rewritten.deps);
+    }
+
+    fn element(&mut self, id: ElementId) {
+        let graph = self.graph;
+        let element = graph.element(id);
+        let bonds = &element.bonds;
+        match element.kind {
+            ElementKind::Se | ElementKind::Sf => {
+                let Law::Linear(value) = &element.law else { return };
+                let bond = bonds[0];
+                let rewritten = self.rewrite(id, value, &[]);
+                let (defines, negate) = if element.kind == ElementKind::Se {
+                    (Signal::Effort(bond), false)
+                } else {
+                    (Signal::Flow(bond), graph.bond(bond).points_into(id))
+                };
+                let rhs = Rhs::Law {
+                    negate,
+                    bindings: Vec::new(),
+                    expr: rewritten.expr,
+                };
+                self.push(defines, id, rhs, rewritten.deps);
+            }
+            ElementKind::C | ElementKind::I | ElementKind::R => self.passive(id),
+            ElementKind::Tf | ElementKind::Gy => {
+                let Law::Linear(modulus) = &element.law else { return };
+                let (b1, b2) = (bonds[0], bonds[1]);
+                let receives_e1 = self.stroke_at(b1) == id;
+                let (e1, f1, e2, f2) = (Signal::Effort(b1), Signal::Flow(b1), Signal::Effort(b2), Signal::Flow(b2));
+                // TF: e1 = n e2, f2 = n f1.  GY: e1 = r f2, e2 = r f1.
+                let plan = match (element.kind, receives_e1) {
+                    (ElementKind::Tf, true) => [(e2, e1, true), (f1, f2, false)],
+                    (ElementKind::Tf, false) => [(e1, e2, false), (f2, f1, false)],
+                    (_, true) => [(f2, e1, true), (f1, e2, true)],
+                    (_, false) => [(e1, f2, false), (e2, f1, false)],
+                };
+                for (defines, from, divide) in plan {
+                    self.scaled(id, defines, Term::plus(from), modulus, divide);
+                }
+            }
+            ElementKind::Zero | ElementKind::One => self.junction(id),
+        }
+    }
+
+    fn passive(&mut self, id: ElementId) {
+        let element = self.graph.element(id);
+        let bond = element.bonds[0];
+        // Port flow = bond flow when the half arrow points in, its negative otherwise.
+        let negate = !self.graph.bond(bond).points_into(id);
+        let (e, f) = (Signal::Effort(bond), Signal::Flow(bond));
+        let state = self.state_of[id.0].map(Signal::State);
+        match (element.kind, &element.law, state) {
+            (ElementKind::C, Law::Linear(k), Some(q)) => self.scaled(id, e, Term::plus(q), k, false),
+            (ElementKind::C, Law::Forms { effort: Some(law), .. }, Some(q)) => {
+                self.law(id, e, false, "q", Term::plus(q), law)
+            }
+            (ElementKind::I, Law::Linear(m), Some(p)) => self.scaled(id, f, Term::signed(negate, p), m, true),
+            (ElementKind::I, Law::Forms { flow: Some(law), .. }, Some(p)) => {
+                self.law(id, f, negate, "p", Term::plus(p), law)
+            }
+            (ElementKind::R, law, _) => {
+                let resistance = self.stroke_at(bond) != id;
+                match (law, resistance) {
+                    (Law::Linear(c), true) => self.scaled(id, e, Term::signed(negate, f), c, false),
+                    (Law::Linear(c), false) => self.scaled(id, f, Term::signed(negate, e), c, true),
+                    (Law::Forms { effort: Some(law), .. }, true) => {
+                        self.law(id, e, false, "f", Term::signed(negate, f), law)
+                    }
+                    (Law::Forms { flow: Some(law), .. }, false) => self.law(id, f, negate, "e", Term::plus(e), law),
+                    // The missing form was reported by causality assignment.
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn junction(&mut self, id: ElementId) {
+        let graph = self.graph;
+        let bonds = &graph.element(id).bonds;
+        let zero = graph.element(id).kind == ElementKind::Zero;
+        // The bond that brings in the common variable: effort at a 0, flow at a 1.
+        let Some(&setter) = bonds.iter().find(|&&b| (self.stroke_at(b) == id) == zero) else { return };
+        let (common, summed): (fn(BondId) -> Signal, fn(BondId) -> Signal) = if zero {
+            (Signal::Effort, Signal::Flow)
+        } else {
+            (Signal::Flow, Signal::Effort)
+        };
+        let inward = |b: BondId| graph.bond(b).points_into(id);
+        let mut terms = Vec::new();
+        for &bond in bonds.iter().filter(|&&b| b != setter) {
+            self.push(common(bond), id, Rhs::Sum(vec![Term::plus(common(setter))]), Vec::new());
+            // Σ in = Σ out, solved for the setter's summed variable.
+            terms.push(Term::signed(inward(bond) == inward(setter), summed(bond)));
+        }
+        self.push(summed(setter), id, Rhs::Sum(terms), Vec::new());
+    }
+}
+
+/// Orders the equations so each follows what it reads (Kahn's algorithm, always
+/// taking the earliest-declared ready equation, so the order is deterministic).
+fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> {
+    let defined_by: BTreeMap<Signal, usize> = equations.iter().enumerate().map(|(i, eq)| (eq.defines, i)).collect();
+    let producers = |eq: &Equation| -> Vec<usize> {
+        eq.deps.iter().filter_map(|d| defined_by.get(d).copied()).collect()
+    };
+    let mut waiting_on: Vec<usize> = equations.iter().map(|eq| producers(eq).len()).collect();
+    let mut readers: Vec<Vec<usize>> = vec![Vec::new(); equations.len()];
+    for (i, eq) in equations.iter().enumerate() {
+        for producer in producers(eq) {
+            readers[producer].push(i);
+        }
+    }
+    let mut ready: BinaryHeap<Reverse<usize>> =
+        (0..equations.len()).filter(|&i| waiting_on[i] == 0).map(Reverse).collect();
+    let mut sequence = Vec::with_capacity(equations.len());
+    while let Some(Reverse(i)) = ready.pop() {
+        sequence.push(i);
+        for &reader in &readers[i] {
+            waiting_on[reader] -= 1;
+            if waiting_on[reader] == 0 {
+                ready.push(Reverse(reader));
+            }
+        }
+    }
+    if sequence.len() < equations.len() {
+        let cycle = find_cycle(&equations, &waiting_on, &defined_by);
+        return Err(algebraic_loop(graph, &cycle));
+    }
+    let mut slots: Vec<Option<Equation>> = equations.into_iter().map(Some).collect();
+    Ok(sequence.into_iter().filter_map(|i| slots[i].take()).collect())
+}
+
+/// Elements on one cycle among the equations that could not be ordered.
+fn find_cycle(equations: &[Equation], waiting_on: &[usize], defined_by: &BTreeMap<Signal, usize>) -> Vec<ElementId> {
+    let stuck = |i: usize| waiting_on[i] > 0;
+    let Some(start) = (0..equations.len()).find(|&i| stuck(i)) else { return Vec::new() };
+    let mut walk = vec![start];
+    let mut current = start;
+    loop {
+        let next = equations[current]
+            .deps
+            .iter()
+            .filter_map(|d| defined_by.get(d).copied())
+            .find(|&p| stuck(p));
+        let Some(next) = next else { break };
+        if let Some(pos) = walk.iter().position(|&w| w == next) {
+            walk.drain(..pos);
+            break;
+        }
+        walk.push(next);
+        current = next;
+    }
+    // Walking dependencies goes against the direction of computation.
+    walk.reverse();
+    let mut elements: Vec<ElementId> = Vec::new();
+    for i in walk {
+        let element = equations[i].element;
+        if elements.last() != Some(&element) && !elements.contains(&element) {
+            elements.push(element);
+        }
+    }
+    elements
+}
+
+fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
+    let names: Vec<String> = cycle.iter().map(|&id| graph.describe(id)).collect();
+    let span = cycle.first().map_or_else(|| graph.name.span(), |&id| graph.element(id).name.span());
+    syn::Error::new(
+        span,
+        format!(
+            "algebraic loop: {} compute each other's variables at the same instant, so there is \
+             no order to evaluate them in; break the loop with a storage element (a small C or I \
+             where the physics has one), or combine the resistors on the loop into one R",
+            names.join(" -> ")
+        ),
+    )
+}

@@ -1,0 +1,159 @@
+//! Stage 2's product: the bond graph with names resolved to dense, typed ids.
+//!
+//! Every node keeps the syntax it came from (identifiers, expressions, spans) so that
+//! causality and code generation can point at the user's text.
+
+use syn::{Attribute, Expr, Ident, Visibility};
+
+pub use crate::syntax::ElementKind;
+
+/// Index of an element in [`Graph::elements`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct ElementId(pub usize);
+
+/// Index of a bond in [`Graph::bonds`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BondId(pub usize);
+
+/// A resolved model.
+pub struct Graph {
+    /// Doc comments and attributes of the model.
+    pub attrs: Vec<Attribute>,
+    /// Visibility of the generated items.
+    pub vis: Visibility,
+    /// The model's name.
+    pub name: Ident,
+    /// Parameters in declaration order.
+    pub params: Vec<Param>,
+    /// Elements in declaration order.
+    pub elements: Vec<Element>,
+    /// Bonds in the order written.
+    pub bonds: Vec<Bond>,
+    /// Initial values of storage states that are not zero.
+    pub inits: Vec<Init>,
+    /// Named outputs in declaration order.
+    pub outputs: Vec<Output>,
+}
+
+/// A parameter: an `f64` field of the generated parameter struct.
+pub struct Param {
+    /// Doc comments (units) and other attributes.
+    pub attrs: Vec<Attribute>,
+    /// Its name.
+    pub name: Ident,
+    /// The default value, an expression in earlier parameters.
+    pub default: Expr,
+}
+
+/// An element of the graph.
+pub struct Element {
+    /// Its name.
+    pub name: Ident,
+    /// Its kind.
+    pub kind: ElementKind,
+    /// Its constitutive law.
+    pub law: Law,
+    /// Its bonds in the order written. For TF and GY: port 1 (the bond pointing in),
+    /// then port 2 (the bond pointing out).
+    pub bonds: Vec<BondId>,
+}
+
+/// A constitutive law, checked against the element's kind.
+pub enum Law {
+    /// Junctions have none.
+    None,
+    /// A coefficient (stiffness for C, inertia for I, resistance for R, modulus for TF and
+    /// GY) or a source's value.
+    Linear(Expr),
+    /// Explicit forms: `e = φ(own variables)` and/or `f = φ(own variables)`.
+    Forms {
+        /// `e = ...` (C: of q; R: of f).
+        effort: Option<Expr>,
+        /// `f = ...` (I: of p; R: of e).
+        flow: Option<Expr>,
+    },
+}
+
+impl Law {
+    /// Whether a resistor can compute its effort from its flow.
+    pub fn has_effort_form(&self) -> bool {
+        matches!(self, Law::Linear(_) | Law::Forms { effort: Some(_), .. })
+    }
+}
+
+/// A bond: power flows from `from` to `to`.
+pub struct Bond {
+    /// The element the bond leaves.
+    pub from: ElementId,
+    /// The element the half arrow points at.
+    pub to: ElementId,
+    /// The bond's label, if the model gave one.
+    pub label: Option<Ident>,
+}
+
+impl Bond {
+    /// The element at the other end from `end`.
+    pub fn other(&self, end: ElementId) -> ElementId {
+        if self.from == end {
+            self.to
+        } else {
+            self.from
+        }
+    }
+
+    /// Whether the half arrow points at `end`.
+    pub fn points_into(&self, end: ElementId) -> bool {
+        self.to == end
+    }
+}
+
+/// `init element.q = value;`
+pub struct Init {
+    /// The storage element.
+    pub element: ElementId,
+    /// The value, an expression in parameters.
+    pub value: Expr,
+}
+
+/// `output name = expr;`
+pub struct Output {
+    /// Doc comments and other attributes.
+    pub attrs: Vec<Attribute>,
+    /// The output's name.
+    pub name: Ident,
+    /// The expression.
+    pub expr: Expr,
+}
+
+impl Graph {
+    /// The element with this id.
+    pub fn element(&self, id: ElementId) -> &Element {
+        &self.elements[id.0]
+    }
+
+    /// The bond with this id.
+    pub fn bond(&self, id: BondId) -> &Bond {
+        &self.bonds[id.0]
+    }
+
+    /// Ids of all elements, in declaration order.
+    pub fn element_ids(&self) -> impl Iterator<Item = ElementId> {
+        (0..self.elements.len()).map(ElementId)
+    }
+
+    /// Ids of all bonds, in the order written.
+    pub fn bond_ids(&self) -> impl Iterator<Item = BondId> {
+        (0..self.bonds.len()).map(BondId)
+    }
+
+    /// "C spring", "1-junction v": how messages name an element.
+    pub fn describe(&self, id: ElementId) -> String {
+        let element = self.element(id);
+        match element.kind {
+            ElementKind::Zero | ElementKind::One => {
+                format!("{} `{}`", element.kind.describe(), element.name)
+            }
+            kind => format!("{} `{}`", kind.word(), element.name),
+        }
+    }
+}

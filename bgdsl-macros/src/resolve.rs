@@ -1,0 +1,462 @@
+//! Stage 2: from syntax to the graph IR. Resolves names and checks the structure:
+//! duplicates, unknown names, laws that do not fit their element, the number and
+//! direction of each element's bonds, initial conditions.
+
+use std::collections::BTreeMap;
+
+use syn::Ident;
+
+use crate::errors::Errors;
+use crate::ir::{Bond, BondId, Element, ElementId, ElementKind, Graph, Init, Law, Output, Param};
+use crate::syntax::{LawSyntax, ModelDef, Stmt};
+
+/// Names a law may use for the element's own variables; parameters may not take them.
+pub const RESERVED_NAMES: [&str; 5] = ["t", "e", "f", "q", "p"];
+
+/// Builds the graph of one model, or reports every structural mistake found.
+pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
+    let mut errors = Errors::default();
+    for error in model.errors {
+        errors.push(error);
+    }
+    let mut resolver = Resolver {
+        errors,
+        names: BTreeMap::new(),
+        graph: Graph {
+            attrs: model.attrs,
+            vis: model.vis,
+            name: model.name,
+            params: Vec::new(),
+            elements: Vec::new(),
+            bonds: Vec::new(),
+            inits: Vec::new(),
+            outputs: Vec::new(),
+        },
+    };
+    // Declarations first, so that bonds may name elements declared after them.
+    let mut chains = Vec::new();
+    let mut inits = Vec::new();
+    for stmt in model.stmts {
+        match stmt {
+            Stmt::Param(param) => resolver.declare_param(param),
+            Stmt::Element(element) => resolver.declare_element(element),
+            Stmt::Output(output) => resolver.declare_output(output),
+            Stmt::Bonds(chain) => chains.push(chain),
+            Stmt::Init(init) => inits.push(init),
+        }
+    }
+    for chain in chains {
+        resolver.connect(chain);
+    }
+    resolver.check_ports();
+    for init in inits {
+        resolver.initial_condition(init);
+    }
+    resolver.errors.finish()?;
+    Ok(resolver.graph)
+}
+
+/// What a name in the model's namespace refers to.
+#[derive(Clone, Copy)]
+enum Named {
+    Param,
+    Element(ElementId),
+    Bond,
+}
+
+struct Resolver {
+    errors: Errors,
+    /// Parameters, elements and bond labels share one namespace: a law says `k` for a
+    /// parameter and `spring.e` for an element's effort.
+    names: BTreeMap<String, (Named, Ident)>,
+    graph: Graph,
+}
+
+impl Resolver {
+    fn claim(&mut self, name: &Ident, what: Named) -> bool {
+        let key = name.to_string();
+        if let Some((_, first)) = self.names.get(&key) {
+            self.errors.with_note(
+                name.span(),
+                format!("the name `{name}` is declared twice"),
+                first.span(),
+                format!("`{name}` is first declared here"),
+            );
+            return false;
+        }
+        self.names.insert(key, (what, name.clone()));
+        true
+    }
+
+    fn declare_param(&mut self, param: crate::syntax::ParamDecl) {
+        if RESERVED_NAMES.contains(&param.name.to_string().as_str()) {
+            self.errors.at(
+                param.name.span(),
+                format!(
+                    "`{}` cannot be a parameter's name: `t` is time and `e`, `f`, `q`, `p` \
+                     are an element's own variables in its law",
+                    param.name
+                ),
+            );
+            return;
+        }
+        if self.claim(&param.name, Named::Param) {
+            self.graph.params.push(Param {
+                attrs: param.attrs,
+                name: param.name,
+                default: param.default,
+            });
+        }
+    }
+
+    fn declare_element(&mut self, decl: crate::syntax::ElementDecl) {
+        let id = ElementId(self.graph.elements.len());
+        if !self.claim(&decl.name, Named::Element(id)) {
+            return;
+        }
+        let law = self.check_law(decl.kind, &decl.name, decl.law);
+        self.graph.elements.push(Element {
+            name: decl.name,
+            kind: decl.kind,
+            law,
+            bonds: Vec::new(),
+        });
+    }
+
+    /// Checks that the law's shape fits the kind; on a mistake records it and returns
+    /// a law that keeps later stages quiet.
+    fn check_law(&mut self, kind: ElementKind, name: &Ident, law: LawSyntax) -> Law {
+        use ElementKind::*;
+        let word = kind.word();
+        match (kind, law) {
+            (Zero | One, _) => Law::None,
+            (_, LawSyntax::Linear(expr)) => Law::Linear(expr),
+            (Se | Sf | Tf | Gy, LawSyntax::Forms(forms)) => {
+                let what = if matches!(kind, Se | Sf) { "value" } else { "modulus" };
+                self.errors.at(
+                    forms[0].var.span(),
+                    format!("the {what} of {word} `{name}` is written `{word} {name} = expr;`"),
+                );
+                Law::None
+            }
+            (Se | Sf | Tf | Gy | C | I | R, LawSyntax::None) => {
+                let hint = match kind {
+                    Se | Sf => format!("`{word} {name} = value;`"),
+                    Tf | Gy => format!("`{word} {name} = modulus;`"),
+                    C => format!("`C {name} = stiffness;` or `C {name} {{ e = ...q... }}`"),
+                    I => format!("`I {name} = inertia;` or `I {name} {{ f = ...p... }}`"),
+                    _ => format!("`R {name} = resistance;` or `R {name} {{ e = ...f... }}`"),
+                };
+                self.errors.at(
+                    name.span(),
+                    format!("{word} `{name}` needs a constitutive law: {hint}"),
+                );
+                Law::None
+            }
+            (C | I | R, LawSyntax::Forms(forms)) => {
+                let mut effort = None;
+                let mut flow = None;
+                for form in forms {
+                    let var = form.var.to_string();
+                    let allowed = match kind {
+                        C => var == "e",
+                        I => var == "f",
+                        _ => var == "e" || var == "f",
+                    };
+                    if !allowed {
+                        let expected = match kind {
+                            C => "a C element's law gives its effort from its displacement: `e = ...q...`",
+                            I => "an I element's law gives its flow from its momentum: `f = ...p...`",
+                            _ => "an R element's law is `e = ...f...` and/or `f = ...e...`",
+                        };
+                        self.errors.at(form.var.span(), format!("unexpected `{var} = ...`: {expected}"));
+                        continue;
+                    }
+                    let slot = if var == "e" { &mut effort } else { &mut flow };
+                    if slot.is_some() {
+                        self.errors.at(form.var.span(), format!("`{var} = ...` is given twice"));
+                    }
+                    *slot = Some(form.expr);
+                }
+                Law::Forms { effort, flow }
+            }
+        }
+    }
+
+    fn declare_output(&mut self, output: crate::syntax::OutputDecl) {
+        if let Some(first) = self.graph.outputs.iter().find(|o| o.name == output.name) {
+            let first = first.name.span();
+            self.errors.with_note(
+                output.name.span(),
+                format!("the output `{}` is declared twice", output.name),
+                first,
+                "first declared here",
+            );
+            return;
+        }
+        self.graph.outputs.push(Output {
+            attrs: output.attrs,
+            name: output.name,
+            expr: output.expr,
+        });
+    }
+
+    fn lookup_element(&mut self, name: &Ident) -> Option<ElementId> {
+        match self.names.get(&name.to_string()) {
+            Some((Named::Element(id), _)) => Some(*id),
+            Some((Named::Param, _)) => {
+                self.errors.at(
+                    name.span(),
+                    format!("`{name}` is a parameter, not an element: bonds connect elements"),
+                );
+                None
+            }
+            Some((Named::Bond, _)) => {
+                self.errors.at(
+                    name.span(),
+                    format!("`{name}` is a bond label, not an element: bonds connect elements"),
+                );
+                None
+            }
+            None => {
+                let elements: Vec<String> =
+                    self.graph.elements.iter().map(|e| e.name.to_string()).collect();
+                self.errors.at(
+                    name.span(),
+                    format!(
+                        "unknown element `{name}`{}; the model's elements are: {}",
+                        suggestion(name, &elements),
+                        elements.join(", ")
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    fn connect(&mut self, chain: crate::syntax::BondChain) {
+        let mut left = chain.first;
+        for (arrow, right) in chain.links {
+            let sources: Vec<Option<ElementId>> =
+                left.names().iter().map(|n| self.lookup_element(n)).collect();
+            let targets: Vec<Option<ElementId>> =
+                right.names().iter().map(|n| self.lookup_element(n)).collect();
+            if sources.len() > 1 && targets.len() > 1 {
+                self.errors.at(
+                    arrow.span,
+                    "an arrow between two groups is ambiguous: connect a group to one element",
+                );
+            } else if arrow.label.is_some() && sources.len() * targets.len() > 1 {
+                self.errors.at(
+                    arrow.span,
+                    "a label names one bond, but this arrow makes several: label each bond on its own",
+                );
+            } else {
+                let label_ok = match &arrow.label {
+                    Some(label) => self.claim(label, Named::Bond),
+                    None => true,
+                };
+                for (from, from_name) in sources.iter().zip(left.names()) {
+                    for (to, to_name) in targets.iter().zip(right.names()) {
+                        let (Some(from), Some(to)) = (*from, *to) else { continue };
+                        if from == to {
+                            self.errors.at(
+                                to_name.span(),
+                                format!("a bond from `{from_name}` to itself connects nothing"),
+                            );
+                            continue;
+                        }
+                        let id = BondId(self.graph.bonds.len());
+                        self.graph.bonds.push(Bond {
+                            from,
+                            to,
+                            label: if label_ok { arrow.label.clone() } else { None },
+                        });
+                        self.graph.elements[from.0].bonds.push(id);
+                        self.graph.elements[to.0].bonds.push(id);
+                    }
+                }
+            }
+            left = right;
+        }
+    }
+
+    /// Each kind has a fixed number of ports; TF and GY pass power through, so their
+    /// port 1 points in and port 2 points out.
+    fn check_ports(&mut self) {
+        for index in 0..self.graph.elements.len() {
+            let id = ElementId(index);
+            let element = &self.graph.elements[index];
+            let name = &element.name;
+            let count = element.bonds.len();
+            let what = self.graph.describe(id);
+            let message = match element.kind {
+                _ if count == 0 => Some(format!(
+                    "{what} is not connected to anything: add a bond such as `{name} -> ...`, or remove it"
+                )),
+                ElementKind::Zero | ElementKind::One if count < 2 => Some(format!(
+                    "{what} has only one bond; a junction joins two or more bonds"
+                )),
+                ElementKind::Zero | ElementKind::One => None,
+                ElementKind::Tf | ElementKind::Gy if count != 2 => Some(format!(
+                    "{what} has {count} bonds, but a two-port takes exactly 2 (one in, one out)"
+                )),
+                ElementKind::Tf | ElementKind::Gy => {
+                    let [a, b] = [element.bonds[0], element.bonds[1]];
+                    let into = |bond: BondId| self.graph.bonds[bond.0].points_into(id);
+                    match (into(a), into(b)) {
+                        (true, false) => None,
+                        (false, true) => {
+                            self.graph.elements[index].bonds.swap(0, 1);
+                            None
+                        }
+                        (true, true) => Some(format!(
+                            "both bonds of {what} point into it; a two-port passes power through: one bond in (port 1), one out (port 2)"
+                        )),
+                        (false, false) => Some(format!(
+                            "both bonds of {what} point out of it; a two-port passes power through: one bond in (port 1), one out (port 2)"
+                        )),
+                    }
+                }
+                _ if count != 1 => Some(format!(
+                    "{what} has {count} bonds, but a one-port takes exactly 1; join them with a junction (`0 j;` or `1 j;`)"
+                )),
+                _ => None,
+            };
+            if let Some(message) = message {
+                let span = self.graph.elements[index].name.span();
+                self.errors.at(span, message);
+            }
+        }
+    }
+
+    fn initial_condition(&mut self, init: crate::syntax::InitDecl) {
+        let Some(id) = self.lookup_element(&init.element) else { return };
+        let element = self.graph.element(id);
+        let expected = match element.kind {
+            ElementKind::C => "q",
+            ElementKind::I => "p",
+            _ => {
+                let what = self.graph.describe(id);
+                self.errors.at(
+                    init.element.span(),
+                    format!("{what} has no state; only C (`.q`) and I (`.p`) elements take initial conditions"),
+                );
+                return;
+            }
+        };
+        if init.var != expected {
+            let what = self.graph.describe(id);
+            self.errors.at(
+                init.var.span(),
+                format!("{what} has the state `{expected}`, not `{}`: write `init {}.{expected} = ...;`", init.var, init.element),
+            );
+            return;
+        }
+        if self.graph.inits.iter().any(|i| i.element == id) {
+            self.errors.at(
+                init.element.span(),
+                format!("`{}.{expected}` is given an initial value twice", init.element),
+            );
+            return;
+        }
+        self.graph.inits.push(Init {
+            element: id,
+            value: init.value,
+        });
+    }
+}
+
+/// ` (did you mean `spring`?)` when a known name is one or two edits away.
+pub fn suggestion(name: &Ident, known: &[String]) -> String {
+    let name = name.to_string();
+    known
+        .iter()
+        .map(|k| (edit_distance(&name, k), k))
+        .filter(|(d, _)| *d <= 2)
+        .min()
+        .map(|(_, k)| format!(" (did you mean `{k}`?)"))
+        .unwrap_or_default()
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != *cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod should {
+    use super::*;
+
+    fn resolve_text(text: &str) -> syn::Result<Graph> {
+        let file: crate::syntax::File = syn::parse_str(text)?;
+        resolve(file.models.into_iter().next().unwrap())
+    }
+
+    fn messages(text: &str) -> Vec<String> {
+        match resolve_text(text) {
+            Ok(_) => Vec::new(),
+            Err(e) => e.into_iter().map(|e| e.to_string()).collect(),
+        }
+    }
+
+    #[test]
+    fn expand_fan_out_into_one_bond_each() {
+        let g = resolve_text("model M { Se s = 1.0; 1 v; C c = 1.0; I i = 1.0; s -> v -> { c, i }; }")
+            .unwrap();
+        assert_eq!(g.bonds.len(), 3);
+        assert_eq!(g.bond(BondId(2)).from, ElementId(1));
+        assert_eq!(g.bond(BondId(2)).to, ElementId(3));
+        assert_eq!(g.element(ElementId(1)).bonds, [BondId(0), BondId(1), BondId(2)]);
+    }
+
+    #[test]
+    fn put_the_inward_bond_of_a_transformer_first() {
+        let g = resolve_text("model M { Se s = 1.0; TF t = 2.0; R r = 1.0; t -> r; s -> t; }").unwrap();
+        let tf = g.element(ElementId(1));
+        assert!(g.bond(tf.bonds[0]).points_into(ElementId(1)));
+    }
+
+    #[test]
+    fn report_every_structural_mistake_at_once() {
+        let m = messages(
+            "model M { param k = 1.0; C k = 2.0; Se s = 1.0; Se s2 = 1.0; R r = 1.0; TF t = 1.0; \
+             s -> rr; s2 -> t; r -> t; }",
+        );
+        assert_eq!(m.len(), 5, "{m:?}");
+        assert!(m[0].contains("declared twice"));
+        assert!(m[2].starts_with("unknown element `rr` (did you mean `r`?)"));
+        assert!(m.iter().any(|e| e.contains("both bonds of TF `t` point into it")));
+        assert!(m.iter().any(|e| e.contains("Se `s` is not connected")));
+    }
+
+    #[test]
+    fn reject_a_law_in_the_wrong_variable() {
+        let m = messages("model M { C c { f = q }; Se s = 1.0; s -> c; }");
+        assert_eq!(m, ["unexpected `f = ...`: a C element's law gives its effort from its displacement: `e = ...q...`"]);
+    }
+
+    #[test]
+    fn reject_reserved_parameter_names() {
+        let m = messages("model M { param q = 1.0; Se s = 1.0; C c = 1.0; s -> c; }");
+        assert!(m[0].starts_with("`q` cannot be a parameter's name"));
+    }
+
+    #[test]
+    fn check_initial_conditions_name_a_state() {
+        let m = messages("model M { Se s = 1.0; C c = 1.0; s -> c; init c.p = 1.0; init s.q = 0.0; }");
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(m[0].contains("has the state `q`, not `p`"));
+        assert!(m[1].contains("has no state"));
+    }
+}

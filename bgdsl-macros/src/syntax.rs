@@ -1,0 +1,558 @@
+//! Stage 1: the syntax tree of a `bond_graph!` block and its parser.
+//!
+//! The tree mirrors the text one to one and keeps every span, so later stages can point
+//! at the user's words. Nothing is resolved here: names are still identifiers.
+
+use proc_macro2::Span;
+use syn::parse::{Parse, ParseStream};
+use syn::spanned::Spanned;
+use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Token, Visibility};
+
+/// Words with a meaning of their own in a `bond_graph!` block.
+pub mod kw {
+    syn::custom_keyword!(model);
+    syn::custom_keyword!(param);
+    syn::custom_keyword!(init);
+    syn::custom_keyword!(output);
+}
+
+/// Element kinds as written, for parsing and for error messages.
+pub const ELEMENT_KINDS: &str = "Se, Sf, C, I, R, TF, GY, 0, 1";
+
+/// Everything in one `bond_graph! { ... }` invocation: one or more models.
+pub struct File {
+    /// The models in the order written.
+    pub models: Vec<ModelDef>,
+}
+
+/// `/// doc  pub model Name { statements }`
+pub struct ModelDef {
+    /// Outer attributes, doc comments included.
+    pub attrs: Vec<Attribute>,
+    /// Visibility of the generated items.
+    pub vis: Visibility,
+    /// The model's name.
+    pub name: Ident,
+    /// The statements that parsed.
+    pub stmts: Vec<Stmt>,
+    /// Errors from statements that did not parse (each skipped to its `;`).
+    pub errors: Vec<syn::Error>,
+}
+
+/// One statement inside a model.
+pub enum Stmt {
+    /// `param k = 100.0;`
+    Param(ParamDecl),
+    /// `C spring = k;`, `R damper { e = c * f * f.abs() };`, `1 v;`
+    Element(ElementDecl),
+    /// `push -> v -> { mass, spring };`
+    Bonds(BondChain),
+    /// `init spring.q = 0.01;`
+    Init(InitDecl),
+    /// `output x = spring.q;`
+    Output(OutputDecl),
+}
+
+/// A parameter with its default value.
+pub struct ParamDecl {
+    /// Doc comments (units by convention) and other attributes.
+    pub attrs: Vec<Attribute>,
+    /// The parameter's name.
+    pub name: Ident,
+    /// The default, an expression in earlier parameters.
+    pub default: Expr,
+}
+
+/// The kind of an element, as the syntax names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElementKind {
+    /// `Se`
+    Se,
+    /// `Sf`
+    Sf,
+    /// `C`
+    C,
+    /// `I`
+    I,
+    /// `R`
+    R,
+    /// `TF`
+    Tf,
+    /// `GY`
+    Gy,
+    /// `0`
+    Zero,
+    /// `1`
+    One,
+}
+
+impl ElementKind {
+    fn from_word(word: &str) -> Option<Self> {
+        Some(match word {
+            "Se" => ElementKind::Se,
+            "Sf" => ElementKind::Sf,
+            "C" => ElementKind::C,
+            "I" => ElementKind::I,
+            "R" => ElementKind::R,
+            "TF" => ElementKind::Tf,
+            "GY" => ElementKind::Gy,
+            _ => return None,
+        })
+    }
+
+    /// The kind as written.
+    pub fn word(self) -> &'static str {
+        match self {
+            ElementKind::Se => "Se",
+            ElementKind::Sf => "Sf",
+            ElementKind::C => "C",
+            ElementKind::I => "I",
+            ElementKind::R => "R",
+            ElementKind::Tf => "TF",
+            ElementKind::Gy => "GY",
+            ElementKind::Zero => "0",
+            ElementKind::One => "1",
+        }
+    }
+
+    /// Human description used in messages ("1-junction", "C element").
+    pub fn describe(self) -> &'static str {
+        match self {
+            ElementKind::Se => "effort source Se",
+            ElementKind::Sf => "flow source Sf",
+            ElementKind::C => "C element",
+            ElementKind::I => "I element",
+            ElementKind::R => "R element",
+            ElementKind::Tf => "transformer TF",
+            ElementKind::Gy => "gyrator GY",
+            ElementKind::Zero => "0-junction",
+            ElementKind::One => "1-junction",
+        }
+    }
+}
+
+/// `KIND name [= expr | { var = expr, ... }];` (doc comments on an element document
+/// the model's text only.)
+pub struct ElementDecl {
+    /// The kind.
+    pub kind: ElementKind,
+    /// The element's name.
+    pub name: Ident,
+    /// Its constitutive law as written.
+    pub law: LawSyntax,
+}
+
+/// A constitutive law as written.
+pub enum LawSyntax {
+    /// No law (junctions).
+    None,
+    /// `= expr`: the linear coefficient (stiffness, mass, resistance, modulus) or a
+    /// source's value.
+    Linear(Expr),
+    /// `{ e = expr, f = expr }`: explicit forms in the element's own variables.
+    Forms(Vec<LawForm>),
+}
+
+/// `var = expr` inside an element's braces.
+pub struct LawForm {
+    /// The variable the form computes (`e` or `f`).
+    pub var: Ident,
+    /// The right-hand side.
+    pub expr: Expr,
+}
+
+/// `a -> b -[label]-> { c, d };`
+pub struct BondChain {
+    /// The first endpoint.
+    pub first: Endpoint,
+    /// Each arrow and the endpoint it points at.
+    pub links: Vec<(Arrow, Endpoint)>,
+}
+
+/// One side of an arrow: an element or a braced group (fan-out / fan-in).
+pub enum Endpoint {
+    /// A single element.
+    One(Ident),
+    /// `{ a, b, c }`
+    Group(Vec<Ident>),
+}
+
+impl Endpoint {
+    /// The names on this side, in order.
+    pub fn names(&self) -> &[Ident] {
+        match self {
+            Endpoint::One(name) => core::slice::from_ref(name),
+            Endpoint::Group(names) => names,
+        }
+    }
+}
+
+/// `->` or `-[label]->`: a bond's half arrow, power flowing left to right.
+pub struct Arrow {
+    /// The bond's label, if given.
+    pub label: Option<Ident>,
+    /// Where the arrow is written.
+    pub span: Span,
+}
+
+/// `init element.var = expr;`
+pub struct InitDecl {
+    /// The storage element.
+    pub element: Ident,
+    /// Its state variable (`q` or `p`).
+    pub var: Ident,
+    /// The initial value, an expression in parameters.
+    pub value: Expr,
+}
+
+/// `output name = expr;`
+pub struct OutputDecl {
+    /// Doc comments and other attributes.
+    pub attrs: Vec<Attribute>,
+    /// The output's name.
+    pub name: Ident,
+    /// The expression, in signals, parameters and `t`.
+    pub expr: Expr,
+}
+
+impl Parse for File {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let mut models = Vec::new();
+        while !input.is_empty() {
+            models.push(input.parse()?);
+        }
+        if models.is_empty() {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                "expected a model: `pub model Name { ... }`",
+            ));
+        }
+        Ok(File { models })
+    }
+}
+
+impl Parse for ModelDef {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let vis: Visibility = input.parse()?;
+        let lookahead = input.lookahead1();
+        if !lookahead.peek(kw::model) {
+            return Err(lookahead.error());
+        }
+        input.parse::<kw::model>()?;
+        let name: Ident = input.parse()?;
+        let body;
+        braced!(body in input);
+        let mut stmts = Vec::new();
+        let mut errors = Vec::new();
+        while !body.is_empty() {
+            match parse_stmt(&body) {
+                Ok(stmt) => stmts.push(stmt),
+                Err(error) => {
+                    errors.push(error);
+                    skip_past_semicolon(&body);
+                }
+            }
+        }
+        Ok(ModelDef {
+            attrs,
+            vis,
+            name,
+            stmts,
+            errors,
+        })
+    }
+}
+
+/// Error recovery: drop tokens up to and including the next `;` at this level, so one
+/// malformed statement does not hide mistakes in the following ones.
+fn skip_past_semicolon(input: ParseStream) {
+    let _ = input.step(|cursor| {
+        let mut rest = *cursor;
+        while let Some((tt, next)) = rest.token_tree() {
+            rest = next;
+            if let proc_macro2::TokenTree::Punct(p) = &tt {
+                if p.as_char() == ';' {
+                    break;
+                }
+            }
+        }
+        Ok(((), rest))
+    });
+}
+
+fn parse_stmt(input: ParseStream) -> syn::Result<Stmt> {
+    let attrs = input.call(Attribute::parse_outer)?;
+    let lookahead = input.lookahead1();
+    let stmt = if lookahead.peek(kw::param) {
+        input.parse::<kw::param>()?;
+        let name = input.parse()?;
+        input.parse::<Token![=]>()?;
+        let default = input.parse()?;
+        Stmt::Param(ParamDecl {
+            attrs,
+            name,
+            default,
+        })
+    } else if lookahead.peek(kw::init) {
+        no_attrs(&attrs, "an `init` statement")?;
+        input.parse::<kw::init>()?;
+        let element = input.parse()?;
+        input.parse::<Token![.]>()?;
+        let var = input.parse()?;
+        input.parse::<Token![=]>()?;
+        let value = input.parse()?;
+        Stmt::Init(InitDecl {
+            element,
+            var,
+            value,
+        })
+    } else if lookahead.peek(kw::output) {
+        input.parse::<kw::output>()?;
+        let name = input.parse()?;
+        input.parse::<Token![=]>()?;
+        let expr = input.parse()?;
+        Stmt::Output(OutputDecl { attrs, name, expr })
+    } else if lookahead.peek(LitInt) {
+        Stmt::Element(parse_junction(input)?)
+    } else if lookahead.peek(Ident) && input.peek2(Ident) {
+        Stmt::Element(parse_element(input)?)
+    } else if lookahead.peek(Ident) || lookahead.peek(syn::token::Brace) {
+        no_attrs(&attrs, "a bond statement")?;
+        Stmt::Bonds(input.parse()?)
+    } else {
+        return Err(lookahead.error());
+    };
+    input.parse::<Token![;]>()?;
+    Ok(stmt)
+}
+
+fn no_attrs(attrs: &[Attribute], what: &str) -> syn::Result<()> {
+    match attrs.first() {
+        Some(attr) => Err(syn::Error::new_spanned(
+            attr,
+            format!("attributes and doc comments are not allowed on {what}"),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn parse_junction(input: ParseStream) -> syn::Result<ElementDecl> {
+    let lit: LitInt = input.parse()?;
+    let kind = match lit.base10_digits() {
+        "0" if lit.suffix().is_empty() => ElementKind::Zero,
+        "1" if lit.suffix().is_empty() => ElementKind::One,
+        _ => {
+            return Err(syn::Error::new(
+                lit.span(),
+                format!(
+                    "unknown element kind `{lit}`: expected one of {ELEMENT_KINDS} \
+                     (junctions are written `0 name;` and `1 name;`)"
+                ),
+            ))
+        }
+    };
+    let name = input.parse()?;
+    if input.peek(Token![=]) || input.peek(syn::token::Brace) {
+        return Err(input.error(format!(
+            "a {} has no constitutive law: write `{} {};`",
+            kind.describe(),
+            kind.word(),
+            name
+        )));
+    }
+    Ok(ElementDecl {
+        kind,
+        name,
+        law: LawSyntax::None,
+    })
+}
+
+fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
+    let word: Ident = input.parse()?;
+    let Some(kind) = ElementKind::from_word(&word.to_string()) else {
+        return Err(syn::Error::new(
+            word.span(),
+            format!(
+                "unknown element kind `{word}`: expected one of {ELEMENT_KINDS}, \
+                 or a statement (`param`, `init`, `output`, or a bond `a -> b`)"
+            ),
+        ));
+    };
+    let name: Ident = input.parse()?;
+    let law = if input.peek(Token![=]) {
+        input.parse::<Token![=]>()?;
+        LawSyntax::Linear(Expr::parse_without_eager_brace(input)?)
+    } else if input.peek(syn::token::Brace) {
+        let body;
+        braced!(body in input);
+        let mut forms = Vec::new();
+        while !body.is_empty() {
+            let var: Ident = body.parse()?;
+            body.parse::<Token![=]>()?;
+            let expr: Expr = body.parse()?;
+            forms.push(LawForm { var, expr });
+            if body.is_empty() {
+                break;
+            }
+            body.parse::<Token![,]>()?;
+        }
+        if forms.is_empty() {
+            return Err(syn::Error::new(
+                name.span(),
+                format!("`{name}` has an empty law: write `{word} {name} = value;` or `{word} {name} {{ e = ... }};`"),
+            ));
+        }
+        LawSyntax::Forms(forms)
+    } else {
+        LawSyntax::None
+    };
+    Ok(ElementDecl {
+        kind,
+        name,
+        law,
+    })
+}
+
+impl Parse for BondChain {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let first = input.parse()?;
+        let mut links = Vec::new();
+        loop {
+            let lookahead = input.lookahead1();
+            if lookahead.peek(Token![->]) {
+                let arrow: Token![->] = input.parse()?;
+                links.push((
+                    Arrow {
+                        label: None,
+                        span: arrow.span(),
+                    },
+                    input.parse()?,
+                ));
+            } else if lookahead.peek(Token![-]) {
+                let dash: Token![-] = input.parse()?;
+                let inner;
+                bracketed!(inner in input);
+                let label: Ident = inner.parse()?;
+                if !inner.is_empty() {
+                    return Err(inner.error("expected `]`: a bond label is one name, `-[b1]->`"));
+                }
+                input.parse::<Token![->]>()?;
+                links.push((
+                    Arrow {
+                        label: Some(label),
+                        span: dash.span(),
+                    },
+                    input.parse()?,
+                ));
+            } else if links.is_empty() || !input.peek(Token![;]) {
+                return Err(lookahead.error());
+            } else {
+                break;
+            }
+        }
+        Ok(BondChain { first, links })
+    }
+}
+
+impl Parse for Endpoint {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let lookahead = input.lookahead1();
+        if lookahead.peek(Ident) {
+            Ok(Endpoint::One(input.parse()?))
+        } else if lookahead.peek(syn::token::Brace) {
+            let body;
+            let brace = braced!(body in input);
+            let names = body.parse_terminated(Ident::parse, Token![,])?;
+            if names.is_empty() {
+                return Err(syn::Error::new(
+                    brace.span.join(),
+                    "an empty group `{}` connects nothing: name at least one element",
+                ));
+            }
+            Ok(Endpoint::Group(names.into_iter().collect()))
+        } else {
+            Err(lookahead.error())
+        }
+    }
+}
+
+#[cfg(test)]
+mod should {
+    use super::*;
+
+    fn parse(text: &str) -> syn::Result<File> {
+        syn::parse_str(text)
+    }
+
+    #[test]
+    fn parse_the_design_sketch() {
+        let file = parse(
+            "/// doc
+             pub model Oscillator {
+                 /// mass, kg
+                 param m = 1.0;
+                 Se push = force;
+                 I mass = m;
+                 R damper { e = c * f * f.abs() };
+                 1 v;
+                 push -> v -> { mass, damper };
+                 init mass.p = 0.5;
+                 output speed = v.f;
+             }",
+        )
+        .unwrap();
+        let model = &file.models[0];
+        assert_eq!(model.name, "Oscillator");
+        assert!(model.errors.is_empty());
+        assert_eq!(model.stmts.len(), 8);
+        let Stmt::Bonds(chain) = &model.stmts[5] else {
+            panic!("expected bonds")
+        };
+        assert_eq!(chain.links.len(), 2);
+        assert_eq!(chain.links[1].1.names().len(), 2);
+    }
+
+    #[test]
+    fn read_a_labelled_arrow() {
+        let file = parse("model M { a -[b7]-> c; }").unwrap();
+        let Stmt::Bonds(chain) = &file.models[0].stmts[0] else {
+            panic!("expected bonds")
+        };
+        assert_eq!(chain.links[0].0.label.as_ref().unwrap(), "b7");
+    }
+
+    #[test]
+    fn read_junction_kinds_from_digits() {
+        let file = parse("model M { 0 a; 1 b; }").unwrap();
+        let kinds: Vec<_> = file.models[0]
+            .stmts
+            .iter()
+            .map(|s| match s {
+                Stmt::Element(e) => e.kind,
+                _ => panic!("expected elements"),
+            })
+            .collect();
+        assert_eq!(kinds, [ElementKind::Zero, ElementKind::One]);
+    }
+
+    #[test]
+    fn recover_after_a_bad_statement_and_report_each() {
+        let file = parse("model M { Q x = 1.0; C c = 1.0; 2 j; a -> ; }").unwrap();
+        let model = &file.models[0];
+        assert_eq!(model.stmts.len(), 1, "the C element still parses");
+        let messages: Vec<String> = model.errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(messages.len(), 3, "{messages:?}");
+        assert!(messages[0].starts_with("unknown element kind `Q`"));
+        assert!(messages[1].starts_with("unknown element kind `2`"));
+        assert!(messages[2].starts_with("expected"));
+    }
+
+    #[test]
+    fn reject_a_law_on_a_junction() {
+        let file = parse("model M { 1 v = 3.0; }").unwrap();
+        assert!(file.models[0].errors[0]
+            .to_string()
+            .contains("has no constitutive law"));
+    }
+}
