@@ -39,14 +39,25 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let output_fields: Vec<&Ident> = graph.outputs.iter().map(|o| &o.name).collect();
     let state_struct = format_ident!("{}State", name);
     let outputs_struct = format_ident!("{}Outputs", name);
-    let record_struct_state = record_struct(vis, &state_struct, &format!("The state of [`{name}`], by name."), &state_fields, &state_docs);
+    let record_struct_state = record_struct(
+        vis,
+        &state_struct,
+        &format!("The state of [`{name}`], by name."),
+        &state_fields,
+        &state_docs,
+    );
     let output_docs: Vec<String> = graph
         .outputs
         .iter()
         .map(|o| doc_text(&o.attrs).unwrap_or_else(|| format!("Output `{}`.", o.name)))
         .collect();
-    let record_struct_outputs =
-        record_struct(vis, &outputs_struct, &format!("The outputs of [`{name}`], by name."), &output_fields, &output_docs);
+    let record_struct_outputs = record_struct(
+        vis,
+        &outputs_struct,
+        &format!("The outputs of [`{name}`], by name."),
+        &output_fields,
+        &output_docs,
+    );
     let graph_const = graph_description(graph, causality);
     let body = evaluation_body(graph, equations);
     let derivatives: Vec<TokenStream> = equations
@@ -183,7 +194,9 @@ fn doc_text(attrs: &[syn::Attribute]) -> Option<String> {
         .filter(|a| a.path().is_ident("doc"))
         .filter_map(|a| match &a.meta {
             syn::Meta::NameValue(nv) => match &nv.value {
-                Expr::Lit(ExprLit { lit: Lit::Str(s), .. }) => Some(s.value().trim().to_string()),
+                Expr::Lit(ExprLit {
+                    lit: Lit::Str(s), ..
+                }) => Some(s.value().trim().to_string()),
                 _ => None,
             },
             _ => None,
@@ -195,7 +208,9 @@ fn doc_text(attrs: &[syn::Attribute]) -> Option<String> {
 /// A parameter default in `f64`: a bare integer literal is read as a float.
 fn f64_expr(expr: &Expr) -> TokenStream {
     match expr {
-        Expr::Lit(ExprLit { lit: Lit::Int(int), .. }) if int.suffix().is_empty() => {
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(int), ..
+        }) if int.suffix().is_empty() => {
             let float = LitFloat::new(&format!("{}.0", int.base10_digits()), int.span());
             quote!(#float)
         }
@@ -206,7 +221,10 @@ fn f64_expr(expr: &Expr) -> TokenStream {
 fn params_struct(graph: &Graph) -> TokenStream {
     let vis = &graph.vis;
     let ident = params_ident(&graph.name);
-    let doc = format!("Parameters of [`{}`], with the declared values as defaults.", graph.name);
+    let doc = format!(
+        "Parameters of [`{}`], with the declared values as defaults.",
+        graph.name
+    );
     let fields = graph.params.iter().map(|p| {
         let name = &p.name;
         let attrs = &p.attrs;
@@ -246,7 +264,13 @@ fn params_struct(graph: &Graph) -> TokenStream {
     }
 }
 
-fn record_struct(vis: &Visibility, ident: &Ident, doc: &str, fields: &[impl quote::ToTokens], docs: &[String]) -> TokenStream {
+fn record_struct(
+    vis: &Visibility,
+    ident: &Ident,
+    doc: &str,
+    fields: &[impl quote::ToTokens],
+    docs: &[String],
+) -> TokenStream {
     let n = fields.len();
     let indices = 0..n;
     let indices2 = 0..n;
@@ -277,7 +301,11 @@ fn record_struct(vis: &Visibility, ident: &Ident, doc: &str, fields: &[impl quot
 
 fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
     let assignments = equations.states.iter().enumerate().map(|(i, state)| {
-        match graph.inits.iter().find(|init| init.element == state.element) {
+        match graph
+            .inits
+            .iter()
+            .find(|init| init.element == state.element)
+        {
             Some(init) => {
                 let value = f64_expr(&init.value);
                 quote!(__x0[#i] = #value;)
@@ -304,7 +332,11 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
         let span = graph.element(eq.element).name.span();
         let target = eq.defines.ident(span);
         let value = match &eq.rhs {
-            Rhs::Law { negate, bindings, expr } => {
+            Rhs::Law {
+                negate,
+                bindings,
+                expr,
+            } => {
                 let binds = bindings.iter().map(|(var, term)| {
                     let var = Ident::new(var, Span::call_site());
                     let term = term_tokens(*term, span);
@@ -314,7 +346,11 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
                 quote_spanned!(span=> #sign { #(#binds)* #expr })
             }
             Rhs::Sum(terms) => sum(terms, span),
-            Rhs::Scaled { term, modulus, divide } => {
+            Rhs::Scaled {
+                term,
+                modulus,
+                divide,
+            } => {
                 let term = term_tokens(*term, span);
                 if *divide {
                     quote_spanned!(span=> #term / (#modulus))

@@ -175,7 +175,15 @@ impl Builder<'_> {
     }
 
     /// A user law in a given form, as an assignment.
-    fn law(&mut self, id: ElementId, defines: Signal, negate: bool, own: &'static str, bound: Term, expr: &Expr) {
+    fn law(
+        &mut self,
+        id: ElementId,
+        defines: Signal,
+        negate: bool,
+        own: &'static str,
+        bound: Term,
+        expr: &Expr,
+    ) {
         let own_vars: &'static [&'static str] = match own {
             "q" => &["q"],
             "p" => &["p"],
@@ -207,7 +215,9 @@ impl Builder<'_> {
         let bonds = &element.bonds;
         match element.kind {
             ElementKind::Se | ElementKind::Sf => {
-                let Law::Linear(value) = &element.law else { return };
+                let Law::Linear(value) = &element.law else {
+                    return;
+                };
                 let bond = bonds[0];
                 let rewritten = self.rewrite(id, value, &[]);
                 let (defines, negate) = if element.kind == ElementKind::Se {
@@ -224,10 +234,17 @@ impl Builder<'_> {
             }
             ElementKind::C | ElementKind::I | ElementKind::R => self.passive(id),
             ElementKind::Tf | ElementKind::Gy => {
-                let Law::Linear(modulus) = &element.law else { return };
+                let Law::Linear(modulus) = &element.law else {
+                    return;
+                };
                 let (b1, b2) = (bonds[0], bonds[1]);
                 let receives_e1 = self.stroke_at(b1) == id;
-                let (e1, f1, e2, f2) = (Signal::Effort(b1), Signal::Flow(b1), Signal::Effort(b2), Signal::Flow(b2));
+                let (e1, f1, e2, f2) = (
+                    Signal::Effort(b1),
+                    Signal::Flow(b1),
+                    Signal::Effort(b2),
+                    Signal::Flow(b2),
+                );
                 // TF: e1 = n e2, f2 = n f1.  GY: e1 = r f2, e2 = r f1.
                 let plan = match (element.kind, receives_e1) {
                     (ElementKind::Tf, true) => [(e2, e1, true), (f1, f2, false)],
@@ -251,23 +268,43 @@ impl Builder<'_> {
         let (e, f) = (Signal::Effort(bond), Signal::Flow(bond));
         let state = self.state_of[id.0].map(Signal::State);
         match (element.kind, &element.law, state) {
-            (ElementKind::C, Law::Linear(k), Some(q)) => self.scaled(id, e, Term::plus(q), k, false),
-            (ElementKind::C, Law::Forms { effort: Some(law), .. }, Some(q)) => {
-                self.law(id, e, false, "q", Term::plus(q), law)
+            (ElementKind::C, Law::Linear(k), Some(q)) => {
+                self.scaled(id, e, Term::plus(q), k, false)
             }
-            (ElementKind::I, Law::Linear(m), Some(p)) => self.scaled(id, f, Term::signed(negate, p), m, true),
-            (ElementKind::I, Law::Forms { flow: Some(law), .. }, Some(p)) => {
-                self.law(id, f, negate, "p", Term::plus(p), law)
+            (
+                ElementKind::C,
+                Law::Forms {
+                    effort: Some(law), ..
+                },
+                Some(q),
+            ) => self.law(id, e, false, "q", Term::plus(q), law),
+            (ElementKind::I, Law::Linear(m), Some(p)) => {
+                self.scaled(id, f, Term::signed(negate, p), m, true)
             }
+            (
+                ElementKind::I,
+                Law::Forms {
+                    flow: Some(law), ..
+                },
+                Some(p),
+            ) => self.law(id, f, negate, "p", Term::plus(p), law),
             (ElementKind::R, law, _) => {
                 let resistance = self.stroke_at(bond) != id;
                 match (law, resistance) {
                     (Law::Linear(c), true) => self.scaled(id, e, Term::signed(negate, f), c, false),
                     (Law::Linear(c), false) => self.scaled(id, f, Term::signed(negate, e), c, true),
-                    (Law::Forms { effort: Some(law), .. }, true) => {
-                        self.law(id, e, false, "f", Term::signed(negate, f), law)
-                    }
-                    (Law::Forms { flow: Some(law), .. }, false) => self.law(id, f, negate, "e", Term::plus(e), law),
+                    (
+                        Law::Forms {
+                            effort: Some(law), ..
+                        },
+                        true,
+                    ) => self.law(id, e, false, "f", Term::signed(negate, f), law),
+                    (
+                        Law::Forms {
+                            flow: Some(law), ..
+                        },
+                        false,
+                    ) => self.law(id, f, negate, "e", Term::plus(e), law),
                     // The missing form was reported by causality assignment.
                     _ => {}
                 }
@@ -281,7 +318,9 @@ impl Builder<'_> {
         let bonds = &graph.element(id).bonds;
         let zero = graph.element(id).kind == ElementKind::Zero;
         // The bond that brings in the common variable: effort at a 0, flow at a 1.
-        let Some(&setter) = bonds.iter().find(|&&b| (self.stroke_at(b) == id) == zero) else { return };
+        let Some(&setter) = bonds.iter().find(|&&b| (self.stroke_at(b) == id) == zero) else {
+            return;
+        };
         let (common, summed): (fn(BondId) -> Signal, fn(BondId) -> Signal) = if zero {
             (Signal::Effort, Signal::Flow)
         } else {
@@ -290,7 +329,12 @@ impl Builder<'_> {
         let inward = |b: BondId| graph.bond(b).points_into(id);
         let mut terms = Vec::new();
         for &bond in bonds.iter().filter(|&&b| b != setter) {
-            self.push(common(bond), id, Rhs::Sum(vec![Term::plus(common(setter))]), Vec::new());
+            self.push(
+                common(bond),
+                id,
+                Rhs::Sum(vec![Term::plus(common(setter))]),
+                Vec::new(),
+            );
             // Σ in = Σ out, solved for the setter's summed variable.
             terms.push(Term::signed(inward(bond) == inward(setter), summed(bond)));
         }
@@ -301,9 +345,16 @@ impl Builder<'_> {
 /// Orders the equations so each follows what it reads (Kahn's algorithm, always
 /// taking the earliest-declared ready equation, so the order is deterministic).
 fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> {
-    let defined_by: BTreeMap<Signal, usize> = equations.iter().enumerate().map(|(i, eq)| (eq.defines, i)).collect();
+    let defined_by: BTreeMap<Signal, usize> = equations
+        .iter()
+        .enumerate()
+        .map(|(i, eq)| (eq.defines, i))
+        .collect();
     let producers = |eq: &Equation| -> Vec<usize> {
-        eq.deps.iter().filter_map(|d| defined_by.get(d).copied()).collect()
+        eq.deps
+            .iter()
+            .filter_map(|d| defined_by.get(d).copied())
+            .collect()
     };
     let mut waiting_on: Vec<usize> = equations.iter().map(|eq| producers(eq).len()).collect();
     let mut readers: Vec<Vec<usize>> = vec![Vec::new(); equations.len()];
@@ -312,8 +363,10 @@ fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> 
             readers[producer].push(i);
         }
     }
-    let mut ready: BinaryHeap<Reverse<usize>> =
-        (0..equations.len()).filter(|&i| waiting_on[i] == 0).map(Reverse).collect();
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..equations.len())
+        .filter(|&i| waiting_on[i] == 0)
+        .map(Reverse)
+        .collect();
     let mut sequence = Vec::with_capacity(equations.len());
     while let Some(Reverse(i)) = ready.pop() {
         sequence.push(i);
@@ -329,13 +382,22 @@ fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> 
         return Err(algebraic_loop(graph, &cycle));
     }
     let mut slots: Vec<Option<Equation>> = equations.into_iter().map(Some).collect();
-    Ok(sequence.into_iter().filter_map(|i| slots[i].take()).collect())
+    Ok(sequence
+        .into_iter()
+        .filter_map(|i| slots[i].take())
+        .collect())
 }
 
 /// Elements on one cycle among the equations that could not be ordered.
-fn find_cycle(equations: &[Equation], waiting_on: &[usize], defined_by: &BTreeMap<Signal, usize>) -> Vec<ElementId> {
+fn find_cycle(
+    equations: &[Equation],
+    waiting_on: &[usize],
+    defined_by: &BTreeMap<Signal, usize>,
+) -> Vec<ElementId> {
     let stuck = |i: usize| waiting_on[i] > 0;
-    let Some(start) = (0..equations.len()).find(|&i| stuck(i)) else { return Vec::new() };
+    let Some(start) = (0..equations.len()).find(|&i| stuck(i)) else {
+        return Vec::new();
+    };
     let mut walk = vec![start];
     let mut current = start;
     loop {
@@ -366,7 +428,9 @@ fn find_cycle(equations: &[Equation], waiting_on: &[usize], defined_by: &BTreeMa
 
 fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
     let names: Vec<String> = cycle.iter().map(|&id| graph.describe(id)).collect();
-    let span = cycle.first().map_or_else(|| graph.name.span(), |&id| graph.element(id).name.span());
+    let span = cycle
+        .first()
+        .map_or_else(|| graph.name.span(), |&id| graph.element(id).name.span());
     syn::Error::new(
         span,
         format!(

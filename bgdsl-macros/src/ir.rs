@@ -77,7 +77,19 @@ pub enum Law {
 impl Law {
     /// Whether a resistor can compute its effort from its flow.
     pub fn has_effort_form(&self) -> bool {
-        matches!(self, Law::Linear(_) | Law::Forms { effort: Some(_), .. })
+        matches!(
+            self,
+            Law::Linear(_)
+                | Law::Forms {
+                    effort: Some(_),
+                    ..
+                }
+        )
+    }
+
+    /// Whether a resistor can compute its flow from its effort.
+    pub fn has_flow_form(&self) -> bool {
+        matches!(self, Law::Linear(_) | Law::Forms { flow: Some(_), .. })
     }
 }
 

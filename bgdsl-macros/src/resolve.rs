@@ -132,7 +132,11 @@ impl Resolver {
             (Zero | One, _) => Law::None,
             (_, LawSyntax::Linear(expr)) => Law::Linear(expr),
             (Se | Sf | Tf | Gy, LawSyntax::Forms(forms)) => {
-                let what = if matches!(kind, Se | Sf) { "value" } else { "modulus" };
+                let what = if matches!(kind, Se | Sf) {
+                    "value"
+                } else {
+                    "modulus"
+                };
                 self.errors.at(
                     forms[0].var.span(),
                     format!("the {what} of {word} `{name}` is written `{word} {name} = expr;`"),
@@ -169,12 +173,16 @@ impl Resolver {
                             I => "an I element's law gives its flow from its momentum: `f = ...p...`",
                             _ => "an R element's law is `e = ...f...` and/or `f = ...e...`",
                         };
-                        self.errors.at(form.var.span(), format!("unexpected `{var} = ...`: {expected}"));
+                        self.errors.at(
+                            form.var.span(),
+                            format!("unexpected `{var} = ...`: {expected}"),
+                        );
                         continue;
                     }
                     let slot = if var == "e" { &mut effort } else { &mut flow };
                     if slot.is_some() {
-                        self.errors.at(form.var.span(), format!("`{var} = ...` is given twice"));
+                        self.errors
+                            .at(form.var.span(), format!("`{var} = ...` is given twice"));
                     }
                     *slot = Some(form.expr);
                 }
@@ -219,8 +227,12 @@ impl Resolver {
                 None
             }
             None => {
-                let elements: Vec<String> =
-                    self.graph.elements.iter().map(|e| e.name.to_string()).collect();
+                let elements: Vec<String> = self
+                    .graph
+                    .elements
+                    .iter()
+                    .map(|e| e.name.to_string())
+                    .collect();
                 self.errors.at(
                     name.span(),
                     format!(
@@ -237,10 +249,16 @@ impl Resolver {
     fn connect(&mut self, chain: crate::syntax::BondChain) {
         let mut left = chain.first;
         for (arrow, right) in chain.links {
-            let sources: Vec<Option<ElementId>> =
-                left.names().iter().map(|n| self.lookup_element(n)).collect();
-            let targets: Vec<Option<ElementId>> =
-                right.names().iter().map(|n| self.lookup_element(n)).collect();
+            let sources: Vec<Option<ElementId>> = left
+                .names()
+                .iter()
+                .map(|n| self.lookup_element(n))
+                .collect();
+            let targets: Vec<Option<ElementId>> = right
+                .names()
+                .iter()
+                .map(|n| self.lookup_element(n))
+                .collect();
             if sources.len() > 1 && targets.len() > 1 {
                 self.errors.at(
                     arrow.span,
@@ -258,7 +276,9 @@ impl Resolver {
                 };
                 for (from, from_name) in sources.iter().zip(left.names()) {
                     for (to, to_name) in targets.iter().zip(right.names()) {
-                        let (Some(from), Some(to)) = (*from, *to) else { continue };
+                        let (Some(from), Some(to)) = (*from, *to) else {
+                            continue;
+                        };
                         if from == to {
                             self.errors.at(
                                 to_name.span(),
@@ -331,7 +351,9 @@ impl Resolver {
     }
 
     fn initial_condition(&mut self, init: crate::syntax::InitDecl) {
-        let Some(id) = self.lookup_element(&init.element) else { return };
+        let Some(id) = self.lookup_element(&init.element) else {
+            return;
+        };
         let element = self.graph.element(id);
         let expected = match element.kind {
             ElementKind::C => "q",
@@ -356,7 +378,10 @@ impl Resolver {
         if self.graph.inits.iter().any(|i| i.element == id) {
             self.errors.at(
                 init.element.span(),
-                format!("`{}.{expected}` is given an initial value twice", init.element),
+                format!(
+                    "`{}.{expected}` is given an initial value twice",
+                    init.element
+                ),
             );
             return;
         }
@@ -387,7 +412,9 @@ fn edit_distance(a: &str, b: &str) -> usize {
         row[0] = i + 1;
         for (j, cb) in b.iter().enumerate() {
             let above = row[j + 1];
-            row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != *cb));
+            row[j + 1] = (above + 1)
+                .min(row[j] + 1)
+                .min(diagonal + usize::from(ca != *cb));
             diagonal = above;
         }
     }
@@ -412,17 +439,22 @@ mod should {
 
     #[test]
     fn expand_fan_out_into_one_bond_each() {
-        let g = resolve_text("model M { Se s = 1.0; 1 v; C c = 1.0; I i = 1.0; s -> v -> { c, i }; }")
-            .unwrap();
+        let g =
+            resolve_text("model M { Se s = 1.0; 1 v; C c = 1.0; I i = 1.0; s -> v -> { c, i }; }")
+                .unwrap();
         assert_eq!(g.bonds.len(), 3);
         assert_eq!(g.bond(BondId(2)).from, ElementId(1));
         assert_eq!(g.bond(BondId(2)).to, ElementId(3));
-        assert_eq!(g.element(ElementId(1)).bonds, [BondId(0), BondId(1), BondId(2)]);
+        assert_eq!(
+            g.element(ElementId(1)).bonds,
+            [BondId(0), BondId(1), BondId(2)]
+        );
     }
 
     #[test]
     fn put_the_inward_bond_of_a_transformer_first() {
-        let g = resolve_text("model M { Se s = 1.0; TF t = 2.0; R r = 1.0; t -> r; s -> t; }").unwrap();
+        let g =
+            resolve_text("model M { Se s = 1.0; TF t = 2.0; R r = 1.0; t -> r; s -> t; }").unwrap();
         let tf = g.element(ElementId(1));
         assert!(g.bond(tf.bonds[0]).points_into(ElementId(1)));
     }
@@ -436,7 +468,9 @@ mod should {
         assert_eq!(m.len(), 5, "{m:?}");
         assert!(m[0].contains("declared twice"));
         assert!(m[2].starts_with("unknown element `rr` (did you mean `r`?)"));
-        assert!(m.iter().any(|e| e.contains("both bonds of TF `t` point into it")));
+        assert!(m
+            .iter()
+            .any(|e| e.contains("both bonds of TF `t` point into it")));
         assert!(m.iter().any(|e| e.contains("Se `s` is not connected")));
     }
 
@@ -454,7 +488,8 @@ mod should {
 
     #[test]
     fn check_initial_conditions_name_a_state() {
-        let m = messages("model M { Se s = 1.0; C c = 1.0; s -> c; init c.p = 1.0; init s.q = 0.0; }");
+        let m =
+            messages("model M { Se s = 1.0; C c = 1.0; s -> c; init c.p = 1.0; init s.q = 0.0; }");
         assert_eq!(m.len(), 2, "{m:?}");
         assert!(m[0].contains("has the state `q`, not `p`"));
         assert!(m[1].contains("has no state"));

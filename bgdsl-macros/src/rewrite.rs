@@ -70,13 +70,17 @@ pub fn element_signal(
         }
     };
     let term = match (el.kind, member) {
-        (ElementKind::C, "q") | (ElementKind::I, "p") => state_of[element.0].map(|i| Term::plus(Signal::State(i))),
-        (ElementKind::Se | ElementKind::Sf | ElementKind::C | ElementKind::I | ElementKind::R, "e") => {
-            Some(Term::plus(Signal::Effort(bond(0))))
+        (ElementKind::C, "q") | (ElementKind::I, "p") => {
+            state_of[element.0].map(|i| Term::plus(Signal::State(i)))
         }
-        (ElementKind::Se | ElementKind::Sf | ElementKind::C | ElementKind::I | ElementKind::R, "f") => {
-            Some(Term::signed(port_negated(), Signal::Flow(bond(0))))
-        }
+        (
+            ElementKind::Se | ElementKind::Sf | ElementKind::C | ElementKind::I | ElementKind::R,
+            "e",
+        ) => Some(Term::plus(Signal::Effort(bond(0)))),
+        (
+            ElementKind::Se | ElementKind::Sf | ElementKind::C | ElementKind::I | ElementKind::R,
+            "f",
+        ) => Some(Term::signed(port_negated(), Signal::Flow(bond(0)))),
         (ElementKind::Zero, "e") => Some(Term::plus(Signal::Effort(bond(0)))),
         (ElementKind::One, "f") => Some(Term::plus(Signal::Flow(bond(0)))),
         (ElementKind::Tf | ElementKind::Gy, "e1") => Some(Term::plus(Signal::Effort(bond(0)))),
@@ -94,7 +98,10 @@ pub fn element_signal(
             ElementKind::One => "f (its common flow; name a bond `a -[b]-> c` to read an effort)",
             ElementKind::Tf | ElementKind::Gy => "e1, f1, e2, f2",
         };
-        format!("{} has no signal `{member}`; it has {available}", graph.describe(element))
+        format!(
+            "{} has no signal `{member}`; it has {available}",
+            graph.describe(element)
+        )
     })
 }
 
@@ -123,7 +130,10 @@ struct Rewriter<'s, 'e> {
 impl Rewriter<'_, '_> {
     fn lookup(&self, name: &Ident) -> Option<Lookup> {
         let graph = self.scope.graph;
-        if let Some(id) = graph.element_ids().find(|&id| graph.element(id).name == *name) {
+        if let Some(id) = graph
+            .element_ids()
+            .find(|&id| graph.element(id).name == *name)
+        {
             return Some(Lookup::Element(id));
         }
         graph
@@ -135,11 +145,15 @@ impl Rewriter<'_, '_> {
     fn signal(&mut self, base: &Ident, member: &Ident) -> Option<Term> {
         let member_name = member.to_string();
         let result = match self.lookup(base)? {
-            Lookup::Element(id) => element_signal(self.scope.graph, self.scope.state_of, id, &member_name),
+            Lookup::Element(id) => {
+                element_signal(self.scope.graph, self.scope.state_of, id, &member_name)
+            }
             Lookup::Bond(b) => match member_name.as_str() {
                 "e" => Ok(Term::plus(Signal::Effort(b))),
                 "f" => Ok(Term::plus(Signal::Flow(b))),
-                _ => Err(format!("bond `{base}` has no signal `{member}`; a bond has e and f")),
+                _ => Err(format!(
+                    "bond `{base}` has no signal `{member}`; a bond has e and f"
+                )),
             },
         };
         match result {
@@ -170,7 +184,10 @@ fn as_ident(expr: &Expr) -> Option<&Ident> {
 }
 
 fn int_to_float(expr: &mut Expr) {
-    if let Expr::Lit(ExprLit { lit: Lit::Int(int), .. }) = expr {
+    if let Expr::Lit(ExprLit {
+        lit: Lit::Int(int), ..
+    }) = expr
+    {
         if int.suffix().is_empty() {
             let float = LitFloat::new(&format!("{}.0", int.base10_digits()), int.span());
             *expr = scalar_literal(&float);
@@ -182,7 +199,8 @@ impl VisitMut for Rewriter<'_, '_> {
     fn visit_expr_mut(&mut self, expr: &mut Expr) {
         match expr {
             Expr::Field(field) => {
-                if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member) {
+                if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member)
+                {
                     let (base, member) = (base.clone(), member.clone());
                     if self.lookup(&base).is_some() {
                         if let Some(term) = self.signal(&base, &member) {
@@ -193,7 +211,10 @@ impl VisitMut for Rewriter<'_, '_> {
                 }
                 syn::visit_mut::visit_expr_field_mut(self, field);
             }
-            Expr::Lit(ExprLit { lit: Lit::Float(float), .. }) => {
+            Expr::Lit(ExprLit {
+                lit: Lit::Float(float),
+                ..
+            }) => {
                 let float = float.clone();
                 *expr = scalar_literal(&float);
             }
@@ -201,8 +222,21 @@ impl VisitMut for Rewriter<'_, '_> {
                 use syn::BinOp::*;
                 let numeric = matches!(
                     binary.op,
-                    Add(_) | Sub(_) | Mul(_) | Div(_) | Rem(_) | Lt(_) | Le(_) | Gt(_) | Ge(_) | Eq(_) | Ne(_)
-                        | AddAssign(_) | SubAssign(_) | MulAssign(_) | DivAssign(_)
+                    Add(_)
+                        | Sub(_)
+                        | Mul(_)
+                        | Div(_)
+                        | Rem(_)
+                        | Lt(_)
+                        | Le(_)
+                        | Gt(_)
+                        | Ge(_)
+                        | Eq(_)
+                        | Ne(_)
+                        | AddAssign(_)
+                        | SubAssign(_)
+                        | MulAssign(_)
+                        | DivAssign(_)
                 );
                 if numeric {
                     int_to_float(&mut binary.left);
@@ -219,7 +253,9 @@ impl VisitMut for Rewriter<'_, '_> {
                             name.span(),
                             format!("{what} is an element, not a value: read one of its signals, e.g. `{name}.e`"),
                         );
-                    } else if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.scope.own.contains(&word.as_str()) {
+                    } else if ["e", "f", "q", "p"].contains(&word.as_str())
+                        && !self.scope.own.contains(&word.as_str())
+                    {
                         let own = if self.scope.own.is_empty() {
                             "none: refer to signals by element, e.g. `spring.q`".to_string()
                         } else {
@@ -227,7 +263,10 @@ impl VisitMut for Rewriter<'_, '_> {
                         };
                         self.errors.at(
                             name.span(),
-                            format!("`{word}` is not available in {}; its own variables are {own}", self.scope.context),
+                            format!(
+                                "`{word}` is not available in {}; its own variables are {own}",
+                                self.scope.context
+                            ),
                         );
                     }
                 }

@@ -407,11 +407,7 @@ fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
     } else {
         LawSyntax::None
     };
-    Ok(ElementDecl {
-        kind,
-        name,
-        law,
-    })
+    Ok(ElementDecl { kind, name, law })
 }
 
 impl Parse for BondChain {

@@ -1,12 +1,18 @@
 //! Stage 3: sequential causality assignment (SCAP, Karnopp & Rosenberg).
 //!
 //! Order: sources, then storage elements one at a time in integral causality, then
-//! resistors, then whatever bonds are left; after each choice the consequences are
-//! propagated through junctions, transformers and gyrators. Every stroke remembers
+//! resistors whose law gives only one form (their causality is as fixed as a source's),
+//! then the other resistors, then whatever bonds are left; after each choice the
+//! consequences are propagated through junctions, transformers and gyrators. The first
+//! three are requirements, and propagation only derives their necessary consequences,
+//! so a clash among them is a real mistake. The last two are free choices: they are
+//! searched depth first with backtracking (preferred option first, so the result is
+//! the textbook one whenever that works), which finds an assignment whenever one
+//! exists, where plain greedy SCAP can paint itself into a corner. Every stroke remembers
 //! which choice forced it (its root) and through which bond, so a conflict names both
 //! parties and a derivative causality names the path that forced it.
 //!
-//! A choice that leads to a conflict is rolled back, so each reported mistake is
+//! A requirement that leads to a conflict is rolled back, so each reported mistake is
 //! independent of the others.
 
 use std::collections::VecDeque;
@@ -103,15 +109,39 @@ pub fn assign(graph: &Graph) -> Result<Causality, Vec<CausalityError>> {
     for id in of_kind(&[ElementKind::C, ElementKind::I]) {
         scap.choose_one_port(id);
     }
-    for id in of_kind(&[ElementKind::R]) {
+    let (free, one_form): (Vec<ElementId>, Vec<ElementId>) = of_kind(&[ElementKind::R])
+        .into_iter()
+        .partition(|&id| scap.is_free(id));
+    for id in one_form {
         scap.choose_one_port(id);
     }
-    // Bonds between junctions and two-ports that nothing has fixed: an arbitrary
-    // (deterministic) choice, as SCAP prescribes.
-    for bond in graph.bond_ids() {
-        if scap.strokes[bond.0].is_none() {
-            let to = graph.bond(bond).to;
-            scap.choose(bond, to, to);
+    if scap.errors.is_empty() {
+        // Free decisions: linear resistors, then bonds that nothing has fixed.
+        let mut decisions: Vec<(BondId, [ElementId; 2], ElementId)> = free
+            .iter()
+            .map(|&id| {
+                let bond = graph.element(id).bonds[0];
+                let wanted = preferred_stroke(graph, id, bond);
+                let other = if wanted == id {
+                    graph.bond(bond).other(id)
+                } else {
+                    id
+                };
+                (bond, [wanted, other], id)
+            })
+            .collect();
+        decisions.extend(
+            graph
+                .bond_ids()
+                .map(|b| (b, [graph.bond(b).to, graph.bond(b).from], graph.bond(b).to)),
+        );
+        let mut budget = SEARCH_BUDGET;
+        if let Err(clash) = scap.decide(&decisions, &mut budget) {
+            let root = decisions
+                .iter()
+                .find(|d| scap.strokes[d.0 .0].is_none())
+                .map_or(clash.first, |d| d.2);
+            scap.report(root, clash);
         }
     }
     scap.finish()
@@ -131,11 +161,15 @@ fn preferred_stroke(graph: &Graph, id: ElementId, bond: BondId) -> ElementId {
     }
 }
 
+/// How many free options the search may try before giving up: far more than any
+/// hand-written graph needs, small enough that a pathological one fails fast.
+const SEARCH_BUDGET: usize = 100_000;
+
 struct Scap<'g> {
     graph: &'g Graph,
     strokes: Vec<Option<Stroke>>,
     queue: VecDeque<BondId>,
-    /// Bonds assigned by the choice being propagated, to roll back on conflict.
+    /// Every bond assigned, in order, so a choice can be undone back to a checkpoint.
     trail: Vec<BondId>,
     errors: Vec<CausalityError>,
 }
@@ -148,11 +182,17 @@ struct Clash {
 
 impl Scap<'_> {
     fn choose_one_port(&mut self, id: ElementId) {
-        let Some(&bond) = self.graph.element(id).bonds.first() else { return };
+        let Some(&bond) = self.graph.element(id).bonds.first() else {
+            return;
+        };
         let wanted = preferred_stroke(self.graph, id, bond);
         match self.strokes[bond.0] {
             None => self.choose(bond, wanted, id),
             Some(stroke) if stroke.at == wanted => {}
+            // A resistor takes either causality its law can compute.
+            Some(stroke)
+                if self.graph.element(id).kind == ElementKind::R
+                    && self.resistor_accepts(id, stroke.at) => {}
             Some(stroke) => {
                 let error = match self.graph.element(id).kind {
                     ElementKind::C | ElementKind::I => CausalityError::Derivative {
@@ -175,24 +215,100 @@ impl Scap<'_> {
         }
     }
 
-    /// Makes one choice and propagates it; on a clash, undoes it and reports.
-    fn choose(&mut self, bond: BondId, at: ElementId, root: ElementId) {
-        self.trail.clear();
-        self.queue.clear();
-        self.set(bond, at, root, None);
-        if let Err(clash) = self.propagate() {
-            for undone in self.trail.drain(..) {
-                self.strokes[undone.0] = None;
-            }
-            self.errors.push(CausalityError::Conflict {
-                second: root,
-                first: clash.first,
-                at: clash.at,
-            });
+    fn resistor_accepts(&self, id: ElementId, stroke_at: ElementId) -> bool {
+        let law = &self.graph.element(id).law;
+        if stroke_at == id {
+            law.has_flow_form()
+        } else {
+            law.has_effort_form()
         }
     }
 
-    fn set(&mut self, bond: BondId, at: ElementId, root: ElementId, cause: Option<(BondId, ElementId)>) {
+    /// A linear resistor can take either causality.
+    fn is_free(&self, id: ElementId) -> bool {
+        let element = self.graph.element(id);
+        element.kind == ElementKind::R && matches!(element.law, crate::ir::Law::Linear(_))
+    }
+
+    /// Makes a required choice and propagates it; on a clash, undoes it and reports.
+    fn choose(&mut self, bond: BondId, at: ElementId, root: ElementId) {
+        if let Err(clash) = self.try_choose(bond, at, root) {
+            self.report(root, clash);
+        }
+    }
+
+    /// Depth-first search over the free decisions still open, each option propagated
+    /// before the next decision; undoes its own choices when it fails.
+    fn decide(
+        &mut self,
+        decisions: &[(BondId, [ElementId; 2], ElementId)],
+        budget: &mut usize,
+    ) -> Result<(), Clash> {
+        let Some(&(bond, options, root)) =
+            decisions.iter().find(|d| self.strokes[d.0 .0].is_none())
+        else {
+            return Ok(());
+        };
+        let mut first_clash = None;
+        for at in options {
+            if *budget == 0 {
+                break;
+            }
+            *budget -= 1;
+            let checkpoint = self.trail.len();
+            let outcome = self.try_choose(bond, at, root).and_then(|()| {
+                let deeper = self.decide(decisions, budget);
+                if deeper.is_err() {
+                    self.rollback(checkpoint);
+                }
+                deeper
+            });
+            match outcome {
+                Ok(()) => return Ok(()),
+                Err(clash) => {
+                    first_clash.get_or_insert(clash);
+                }
+            }
+        }
+        Err(first_clash.unwrap_or(Clash {
+            first: root,
+            at: None,
+        }))
+    }
+
+    fn report(&mut self, root: ElementId, clash: Clash) {
+        self.errors.push(CausalityError::Conflict {
+            second: root,
+            first: clash.first,
+            at: clash.at,
+        });
+    }
+
+    /// Sets a stroke and propagates it; on a clash, undoes everything it set.
+    fn try_choose(&mut self, bond: BondId, at: ElementId, root: ElementId) -> Result<(), Clash> {
+        let checkpoint = self.trail.len();
+        self.queue.clear();
+        self.set(bond, at, root, None);
+        let result = self.propagate();
+        if result.is_err() {
+            self.rollback(checkpoint);
+        }
+        result
+    }
+
+    fn rollback(&mut self, checkpoint: usize) {
+        for undone in self.trail.drain(checkpoint..) {
+            self.strokes[undone.0] = None;
+        }
+    }
+
+    fn set(
+        &mut self,
+        bond: BondId,
+        at: ElementId,
+        root: ElementId,
+        cause: Option<(BondId, ElementId)>,
+    ) {
         self.strokes[bond.0] = Some(Stroke { at, root, cause });
         self.trail.push(bond);
         self.queue.push_back(bond);
@@ -245,7 +361,11 @@ impl Scap<'_> {
                 // The last free bond must set the common variable.
                 let bond = free[0];
                 let other = self.graph.bond(bond).other(junction);
-                let at = if self.sets_common(junction, junction) { junction } else { other };
+                let at = if self.sets_common(junction, junction) {
+                    junction
+                } else {
+                    other
+                };
                 self.set(bond, at, root, cause);
                 Ok(())
             }
@@ -253,13 +373,21 @@ impl Scap<'_> {
             (1, _) => {
                 for bond in free {
                     let other = self.graph.bond(bond).other(junction);
-                    let at = if self.sets_common(junction, junction) { other } else { junction };
+                    let at = if self.sets_common(junction, junction) {
+                        other
+                    } else {
+                        junction
+                    };
                     self.set(bond, at, root, cause);
                 }
                 Ok(())
             }
             _ => {
-                let first = setters.iter().map(|s| s.root).find(|&r| r != root).unwrap_or(setters[0].root);
+                let first = setters
+                    .iter()
+                    .map(|s| s.root)
+                    .find(|&r| r != root)
+                    .unwrap_or(setters[0].root);
                 Err(Clash {
                     first,
                     at: Some(junction),
@@ -283,8 +411,14 @@ impl Scap<'_> {
                 self.graph.bond(partner).other(two_port)
             }
         };
-        let (this, partner) = if trigger == port1 { (port1, port2) } else { (port2, port1) };
-        let Some(stroke) = self.strokes[this.0] else { return Ok(()) };
+        let (this, partner) = if trigger == port1 {
+            (port1, port2)
+        } else {
+            (port2, port1)
+        };
+        let Some(stroke) = self.strokes[this.0] else {
+            return Ok(());
+        };
         let wanted = partner_at(stroke.at, partner);
         match self.strokes[partner.0] {
             None => {
@@ -293,7 +427,11 @@ impl Scap<'_> {
             }
             Some(existing) if existing.at == wanted => Ok(()),
             Some(existing) => Err(Clash {
-                first: if existing.root != stroke.root { existing.root } else { stroke.root },
+                first: if existing.root != stroke.root {
+                    existing.root
+                } else {
+                    stroke.root
+                },
                 at: Some(two_port),
             }),
         }
@@ -325,7 +463,10 @@ impl Scap<'_> {
         let graph = self.graph;
         if self.errors.is_empty() {
             for junction in graph.element_ids() {
-                if !matches!(graph.element(junction).kind, ElementKind::Zero | ElementKind::One) {
+                if !matches!(
+                    graph.element(junction).kind,
+                    ElementKind::Zero | ElementKind::One
+                ) {
                     continue;
                 }
                 let setters = graph
@@ -335,7 +476,8 @@ impl Scap<'_> {
                     .filter(|b| self.strokes[b.0].is_some_and(|s| self.sets_common(junction, s.at)))
                     .count();
                 if setters != 1 {
-                    self.errors.push(CausalityError::Junction { junction, setters });
+                    self.errors
+                        .push(CausalityError::Junction { junction, setters });
                 }
             }
         }
@@ -442,3 +584,8 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
         ),
     }
 }
+
+#[cfg(test)]
+mod proptests;
+#[cfg(test)]
+mod tests;
