@@ -321,7 +321,8 @@ impl Builder<'_> {
         let Some(&setter) = bonds.iter().find(|&&b| (self.stroke_at(b) == id) == zero) else {
             return;
         };
-        let (common, summed): (fn(BondId) -> Signal, fn(BondId) -> Signal) = if zero {
+        type Variable = fn(BondId) -> Signal;
+        let (common, summed): (Variable, Variable) = if zero {
             (Signal::Effort, Signal::Flow)
         } else {
             (Signal::Flow, Signal::Effort)

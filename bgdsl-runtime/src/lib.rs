@@ -6,14 +6,25 @@
 //! integrates it and records the results.
 #![warn(missing_docs)]
 
+// Generated code names this crate `::bgdsl_runtime`; this makes that work inside it too.
+extern crate self as bgdsl_runtime;
+
+pub mod error;
 pub mod graph;
 pub mod model;
+pub mod record;
 pub mod scalar;
+pub mod solver;
 
 pub use bgdsl_macros::bond_graph;
+pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 pub use model::Model;
+pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;
+pub use solver::{
+    sample_times_uniform, simulate, DormandPrinceOptions, FixedStep, Simulation, Solver, Stats,
+};
 
 /// Items the generated code refers to. Not a public API: it may change at any time.
 #[doc(hidden)]

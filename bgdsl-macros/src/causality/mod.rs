@@ -117,7 +117,7 @@ pub fn assign(graph: &Graph) -> Result<Causality, Vec<CausalityError>> {
     }
     if scap.errors.is_empty() {
         // Free decisions: linear resistors, then bonds that nothing has fixed.
-        let mut decisions: Vec<(BondId, [ElementId; 2], ElementId)> = free
+        let mut decisions: Vec<Decision> = free
             .iter()
             .map(|&id| {
                 let bond = graph.element(id).bonds[0];
@@ -127,20 +127,27 @@ pub fn assign(graph: &Graph) -> Result<Causality, Vec<CausalityError>> {
                 } else {
                     id
                 };
-                (bond, [wanted, other], id)
+                Decision {
+                    bond,
+                    options: [wanted, other],
+                    root: id,
+                }
             })
             .collect();
-        decisions.extend(
-            graph
-                .bond_ids()
-                .map(|b| (b, [graph.bond(b).to, graph.bond(b).from], graph.bond(b).to)),
-        );
+        decisions.extend(graph.bond_ids().map(|bond| {
+            let b = graph.bond(bond);
+            Decision {
+                bond,
+                options: [b.to, b.from],
+                root: b.to,
+            }
+        }));
         let mut budget = SEARCH_BUDGET;
         if let Err(clash) = scap.decide(&decisions, &mut budget) {
             let root = decisions
                 .iter()
-                .find(|d| scap.strokes[d.0 .0].is_none())
-                .map_or(clash.first, |d| d.2);
+                .find(|d| scap.strokes[d.bond.0].is_none())
+                .map_or(clash.first, |d| d.root);
             scap.report(root, clash);
         }
     }
@@ -159,6 +166,15 @@ fn preferred_stroke(graph: &Graph, id: ElementId, bond: BondId) -> ElementId {
         ElementKind::R if element.law.has_effort_form() => other,
         _ => id,
     }
+}
+
+/// A free choice: a bond whose stroke may go to either option, the first preferred.
+#[derive(Clone, Copy)]
+struct Decision {
+    bond: BondId,
+    options: [ElementId; 2],
+    /// The element blamed if no option works.
+    root: ElementId,
 }
 
 /// How many free options the search may try before giving up: far more than any
@@ -239,13 +255,12 @@ impl Scap<'_> {
 
     /// Depth-first search over the free decisions still open, each option propagated
     /// before the next decision; undoes its own choices when it fails.
-    fn decide(
-        &mut self,
-        decisions: &[(BondId, [ElementId; 2], ElementId)],
-        budget: &mut usize,
-    ) -> Result<(), Clash> {
-        let Some(&(bond, options, root)) =
-            decisions.iter().find(|d| self.strokes[d.0 .0].is_none())
+    fn decide(&mut self, decisions: &[Decision], budget: &mut usize) -> Result<(), Clash> {
+        let Some(&Decision {
+            bond,
+            options,
+            root,
+        }) = decisions.iter().find(|d| self.strokes[d.bond.0].is_none())
         else {
             return Ok(());
         };

@@ -83,7 +83,7 @@ fn build(recipe: &Recipe) -> Graph {
         inits: Vec::new(),
         outputs: Vec::new(),
     };
-    let mut add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
+    let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());
         let name = Ident::new(&format!("x{}", id.0), Span::call_site());
         graph.elements.push(Element {

@@ -1,0 +1,273 @@
+//! What can go wrong while setting up a simulation, integrating it, or writing its
+//! results: errors as data, each rendered by [`Display`](core::fmt::Display) as one
+//! sentence that says when and why.
+
+use core::fmt;
+use std::io;
+use std::path::PathBuf;
+
+/// Why a simulation could not be set up or could not reach its last sample time.
+///
+/// Every variant carries the numbers needed to act on it (the time, the step size, the
+/// state's name as in [`Model::STATE_NAMES`](crate::Model::STATE_NAMES)); the
+/// [`Display`](core::fmt::Display) implementation turns them into a sentence.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum SolverError {
+    /// A state, or the derivative of a state, became NaN or infinite.
+    ///
+    /// A fixed-step method reports this at once. The adaptive method first retries with
+    /// smaller steps (a step that leaves the model's domain is merely too long) and
+    /// reports it when the step size can shrink no further.
+    NonFiniteState {
+        /// The time at which the non-finite value was produced (for a derivative: the
+        /// time of the stage that evaluated it).
+        t: f64,
+        /// The state's name, from [`Model::STATE_NAMES`](crate::Model::STATE_NAMES).
+        state: &'static str,
+        /// The offending value (NaN, `inf` or `-inf`).
+        value: f64,
+        /// Whether the state itself or its derivative was non-finite.
+        kind: NonFiniteKind,
+    },
+    /// The adaptive step size fell below the resolution of the time axis,
+    /// `16 * f64::EPSILON * |t|`, or a fixed step is that small.
+    StepSizeTooSmall {
+        /// The time reached.
+        t: f64,
+        /// The step size that was too small.
+        h: f64,
+    },
+    /// The step budget (`max_steps`, counting accepted and rejected steps) ran out
+    /// before the last sample time.
+    StepBudgetExhausted {
+        /// The time reached.
+        t: f64,
+        /// The last sample time, which was not reached.
+        t_end: f64,
+        /// The number of steps attempted (the budget).
+        steps: usize,
+    },
+    /// The start time is NaN or infinite.
+    NonFiniteStartTime {
+        /// The start time given.
+        t0: f64,
+    },
+    /// A sample time is not finite, lies before the start time, or is smaller than the
+    /// sample time before it.
+    InvalidSampleTimes {
+        /// Position of the offending sample time in the list.
+        index: usize,
+        /// The offending sample time.
+        t: f64,
+        /// What is wrong with it.
+        problem: SampleTimeProblem,
+    },
+    /// The initial state does not have one value per state of the model.
+    StateLengthMismatch {
+        /// The model's name.
+        model: &'static str,
+        /// The number of states of the model.
+        expected: usize,
+        /// The length of the initial state given.
+        found: usize,
+    },
+    /// A solver option is out of its range.
+    InvalidOptions {
+        /// The option's name as a field of the options struct, e.g. `"rtol"`.
+        option: &'static str,
+        /// The value given.
+        value: f64,
+        /// The range the value must lie in, as a phrase: `"a finite number > 0"`.
+        expected: &'static str,
+    },
+    /// A solver was asked for by a name that no solver has.
+    UnknownSolver {
+        /// The name given.
+        name: String,
+        /// The names that exist.
+        valid: &'static [&'static str],
+    },
+}
+
+/// Which value was non-finite in [`SolverError::NonFiniteState`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum NonFiniteKind {
+    /// The state itself (the initial state, or the result of a step).
+    State,
+    /// The derivative of the state, as returned by
+    /// [`Model::derivatives`](crate::Model::derivatives).
+    Derivative,
+}
+
+/// What is wrong with a sample time, in [`SolverError::InvalidSampleTimes`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SampleTimeProblem {
+    /// The sample time is NaN or infinite.
+    NotFinite,
+    /// The sample time lies before the start time.
+    BeforeStart {
+        /// The start time.
+        t0: f64,
+    },
+    /// The sample time is smaller than the one before it.
+    Decreasing {
+        /// The sample time before it.
+        previous: f64,
+    },
+}
+
+/// Formats a number readably at any magnitude: plain between 1e-4 and 1e15,
+/// scientific outside; both forms are the shortest that read back exactly.
+struct Num(f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+impl fmt::Display for SolverError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolverError::NonFiniteState {
+                t,
+                state,
+                value,
+                kind: NonFiniteKind::Derivative,
+            } => write!(
+                f,
+                "at t = {}, the derivative of state `{state}` evaluated to {}: the model's \
+                 equations are undefined there or the solution escapes to infinity",
+                Num(*t),
+                Num(*value)
+            ),
+            SolverError::NonFiniteState {
+                t,
+                state,
+                value,
+                kind: NonFiniteKind::State,
+            } => write!(
+                f,
+                "at t = {}, state `{state}` became {}: the solution escapes to infinity or \
+                 the initial state is not finite",
+                Num(*t),
+                Num(*value)
+            ),
+            SolverError::StepSizeTooSmall { t, h } => write!(
+                f,
+                "at t = {}, the step size fell to {}, below the resolution of the time axis \
+                 (16 * eps * |t|): the solution may have a singularity there, or the problem \
+                 is too stiff for an explicit method",
+                Num(*t),
+                Num(*h)
+            ),
+            SolverError::StepBudgetExhausted { t, t_end, steps } => write!(
+                f,
+                "the budget of {steps} steps was used up at t = {}, before the last sample \
+                 time {}: raise `max_steps`, loosen the tolerances, or use a larger step",
+                Num(*t),
+                Num(*t_end)
+            ),
+            SolverError::NonFiniteStartTime { t0 } => {
+                write!(f, "the start time {} is not a finite number", Num(*t0))
+            }
+            SolverError::InvalidSampleTimes { index, t, problem } => {
+                write!(f, "sample time #{index} ({}) ", Num(*t))?;
+                match problem {
+                    SampleTimeProblem::NotFinite => write!(f, "is not a finite number"),
+                    SampleTimeProblem::BeforeStart { t0 } => {
+                        write!(f, "lies before the start time {}", Num(*t0))
+                    }
+                    SampleTimeProblem::Decreasing { previous } => write!(
+                        f,
+                        "is smaller than the sample time before it ({}); sample times must \
+                         be in increasing order",
+                        Num(*previous)
+                    ),
+                }
+            }
+            SolverError::StateLengthMismatch {
+                model,
+                expected,
+                found,
+            } => write!(
+                f,
+                "the initial state has {found} values but model `{model}` has {expected} \
+                 states"
+            ),
+            SolverError::InvalidOptions {
+                option,
+                value,
+                expected,
+            } => write!(
+                f,
+                "invalid solver option `{option}` = {}: expected {expected}",
+                Num(*value)
+            ),
+            SolverError::UnknownSolver { name, valid } => {
+                write!(f, "unknown solver `{name}`; the solvers are: ")?;
+                for (i, v) in valid.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(", ")?;
+                    }
+                    f.write_str(v)?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl std::error::Error for SolverError {}
+
+/// A trajectory could not be written to a CSV file. The destination was left as it
+/// was: the file is written whole or not at all.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct CsvError {
+    /// The file that was to be written.
+    pub path: PathBuf,
+    /// The operation that failed.
+    pub stage: CsvStage,
+    /// The underlying I/O error.
+    pub source: io::Error,
+}
+
+/// The operation that failed in a [`CsvError`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CsvStage {
+    /// Creating the temporary file next to the destination.
+    CreateTemporary,
+    /// Writing or flushing the temporary file.
+    Write,
+    /// Renaming the temporary file onto the destination.
+    Rename,
+}
+
+impl fmt::Display for CsvError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let what = match self.stage {
+            CsvStage::CreateTemporary => "creating a temporary file in its directory",
+            CsvStage::Write => "writing the temporary file",
+            CsvStage::Rename => "renaming the temporary file onto it",
+        };
+        write!(
+            f,
+            "could not write CSV file `{}`: {what} failed: {}",
+            self.path.display(),
+            self.source
+        )
+    }
+}
+
+impl std::error::Error for CsvError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.source)
+    }
+}

@@ -1,0 +1,315 @@
+//! The one explicit Runge–Kutta kernel: stages, embedded error estimate and continuous
+//! extension, for any [`Tableau`]. It takes single steps; choosing their size is the
+//! driver's business.
+//!
+//! Continuous extension (dense output). For a FSAL tableau with dense weights `d`, the
+//! step from `(t, x)` to `(t + h, x_new)` is interpolated, as in Hairer's DOPRI5, by
+//!
+//! ```text
+//! u(t + theta h) = r1 + theta (r2 + (1 - theta) (r3 + theta (r4 + (1 - theta) r5)))
+//! r1 = x,  r2 = x_new - x,  r3 = h k_1 - r2,  r4 = r2 - h k_s - r3,
+//! r5 = h sum_j d_j k_j,
+//! ```
+//!
+//! a quartic that matches `x`, `x_new` and the derivatives `k_1 = f(t, x)`,
+//! `k_s = f(t + h, x_new)` at both ends.
+
+use super::tableau::Tableau;
+use crate::error::NonFiniteKind;
+use crate::model::Model;
+
+/// A non-finite value met while stepping; the driver turns it into
+/// [`SolverError::NonFiniteState`](crate::SolverError::NonFiniteState).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct NonFinite {
+    pub t: f64,
+    pub index: usize,
+    pub value: f64,
+    pub kind: NonFiniteKind,
+}
+
+/// Workspace and state of the explicit RK kernel. All buffers are allocated by
+/// [`ExplicitRk::new`]; no method allocates.
+#[derive(Debug)]
+pub(crate) struct ExplicitRk {
+    tableau: &'static Tableau,
+    /// Stage derivatives `k_1..k_s`.
+    k: Vec<Vec<f64>>,
+    /// The argument of the stage being evaluated.
+    stage: Vec<f64>,
+    /// The solution proposed by the last attempted step.
+    x_new: Vec<f64>,
+    /// Whether `k[0]` holds `f(t, x)` for the current point.
+    k1_valid: bool,
+    /// Dense-output coefficients `r1..r5` (empty vectors if the tableau has none).
+    dense: [Vec<f64>; 5],
+    /// Start and length of the step the dense coefficients describe.
+    dense_t: f64,
+    dense_h: f64,
+}
+
+impl ExplicitRk {
+    /// A kernel for `tableau` and `n` states.
+    pub fn new(tableau: &'static Tableau, n: usize) -> Self {
+        let dense_len = if tableau.dense.is_some() { n } else { 0 };
+        ExplicitRk {
+            tableau,
+            k: (0..tableau.stages()).map(|_| vec![0.0; n]).collect(),
+            stage: vec![0.0; n],
+            x_new: vec![0.0; n],
+            k1_valid: false,
+            dense: core::array::from_fn(|_| vec![0.0; dense_len]),
+            dense_t: 0.0,
+            dense_h: 0.0,
+        }
+    }
+
+    /// Forgets the first stage: the next step starts from a point the kernel has not
+    /// seen.
+    pub fn restart(&mut self) {
+        self.k1_valid = false;
+    }
+
+    /// Makes `k_1 = f(t, x)` available (evaluating it unless FSAL already did).
+    pub fn prepare<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        n_rhs: &mut usize,
+    ) -> Result<(), NonFinite> {
+        if !self.k1_valid {
+            eval(model, t, x, &mut self.k[0], n_rhs)?;
+            self.k1_valid = true;
+        }
+        Ok(())
+    }
+
+    /// Computes the stages of the step from `(t, x)` to `t_new` and the proposed
+    /// solution [`ExplicitRk::x_new`]. Needs [`ExplicitRk::prepare`] first. Fails on the
+    /// first non-finite stage derivative or a non-finite proposed state.
+    pub fn attempt<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        t_new: f64,
+        x: &[f64],
+        n_rhs: &mut usize,
+    ) -> Result<(), NonFinite> {
+        debug_assert!(self.k1_valid, "prepare() must precede attempt()");
+        let tab = self.tableau;
+        let s = tab.stages();
+        let h = t_new - t;
+        for i in 1..s {
+            let t_i = if tab.c[i] == 1.0 {
+                t_new
+            } else {
+                t + tab.c[i] * h
+            };
+            let (done, rest) = self.k.split_at_mut(i);
+            if tab.fsal && i == s - 1 {
+                // The last row of A is b: the stage argument is the new solution.
+                combine(&mut self.x_new, x, h, tab.b, done);
+                check_state(&self.x_new, t_new)?;
+                eval(model, t_i, &self.x_new, &mut rest[0], n_rhs)?;
+            } else {
+                combine(&mut self.stage, x, h, tab.a[i], done);
+                eval(model, t_i, &self.stage, &mut rest[0], n_rhs)?;
+            }
+        }
+        if !tab.fsal {
+            combine(&mut self.x_new, x, h, tab.b, &self.k);
+            check_state(&self.x_new, t_new)?;
+        }
+        Ok(())
+    }
+
+    /// The embedded error estimate of the last attempted step of length `h`, in the norm
+    /// `sqrt(mean((err_i / (atol + rtol * max(|x_i|, |x_new_i|)))^2))`; `0` for a
+    /// method without an embedded formula.
+    pub fn error_norm(&self, x: &[f64], h: f64, rtol: f64, atol: f64) -> f64 {
+        let Some(est) = &self.tableau.error else {
+            return 0.0;
+        };
+        let n = x.len();
+        if n == 0 {
+            return 0.0;
+        }
+        let mut sum = 0.0;
+        for i in 0..n {
+            let mut e = 0.0;
+            for (w, k) in est.weights.iter().zip(&self.k) {
+                if *w != 0.0 {
+                    e += w * k[i];
+                }
+            }
+            let r = scaled(h * e, atol + rtol * x[i].abs().max(self.x_new[i].abs()));
+            sum += r * r;
+        }
+        (sum / n as f64).sqrt()
+    }
+
+    /// Accepts the last attempted step from `(t, x)` to `t_new`: stores the
+    /// dense-output coefficients if `dense` (and the tableau has them), then moves the
+    /// proposed solution into `x`.
+    pub fn accept(&mut self, t: f64, t_new: f64, x: &mut [f64], dense: bool) {
+        let tab = self.tableau;
+        let s = tab.stages();
+        if let (true, Some(d)) = (dense, tab.dense) {
+            let h = t_new - t;
+            let [r1, r2, r3, r4, r5] = &mut self.dense;
+            for i in 0..x.len() {
+                let diff = self.x_new[i] - x[i];
+                let bspl = h * self.k[0][i] - diff;
+                r1[i] = x[i];
+                r2[i] = diff;
+                r3[i] = bspl;
+                r4[i] = diff - h * self.k[s - 1][i] - bspl;
+                let mut sum = 0.0;
+                for (dj, k) in d.iter().zip(&self.k) {
+                    if *dj != 0.0 {
+                        sum += dj * k[i];
+                    }
+                }
+                r5[i] = h * sum;
+            }
+            self.dense_t = t;
+            self.dense_h = h;
+        }
+        x.copy_from_slice(&self.x_new);
+        if tab.fsal {
+            self.k.swap(0, s - 1);
+            self.k1_valid = true;
+        } else {
+            self.k1_valid = false;
+        }
+    }
+
+    /// Writes the continuous extension of the last step accepted with `dense = true` at
+    /// time `t` (within that step) into `out`.
+    pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let theta = (t - self.dense_t) / self.dense_h;
+        let theta1 = 1.0 - theta;
+        let [r1, r2, r3, r4, r5] = &self.dense;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = r1[i] + theta * (r2[i] + theta1 * (r3[i] + theta * (r4[i] + theta1 * r5[i])));
+        }
+    }
+
+    /// The starting step size of Hairer, Nørsett & Wanner, *Solving ODEs I*, Sect. II.4
+    /// ("Starting step size", steps (a)–(f)), in the error norm of
+    /// [`ExplicitRk::error_norm`], for a method whose error estimate is
+    /// `O(h^(q + 1))`. Needs [`ExplicitRk::prepare`] first; costs one evaluation.
+    #[allow(clippy::too_many_arguments)]
+    pub fn initial_step<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        rtol: f64,
+        atol: f64,
+        max_step: f64,
+        n_rhs: &mut usize,
+    ) -> Result<f64, NonFinite> {
+        let q = self
+            .tableau
+            .error
+            .as_ref()
+            .map_or(self.tableau.order, |e| e.order);
+        let n = x.len().max(1) as f64;
+        let norm = |v: &dyn Fn(usize) -> f64| {
+            let sum: f64 = (0..x.len())
+                .map(|i| scaled(v(i), atol + rtol * x[i].abs()).powi(2))
+                .sum();
+            (sum / n).sqrt()
+        };
+        let f0 = &self.k[0];
+        let d0 = norm(&|i| x[i]);
+        let d1 = norm(&|i| f0[i]);
+        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
+        if !(h0.is_finite() && h0 > 0.0) {
+            h0 = 1e-6;
+        }
+        let h0 = h0.min(max_step);
+        // One explicit Euler step, into the scratch stage buffers.
+        for i in 0..x.len() {
+            self.stage[i] = x[i] + h0 * f0[i];
+        }
+        let (first, rest) = self.k.split_at_mut(1);
+        eval(model, t + h0, &self.stage, &mut rest[0], n_rhs)?;
+        let (f0, f1) = (&first[0], &rest[0]);
+        let d2 = norm(&|i| f1[i] - f0[i]) / h0;
+        let d12 = d1.max(d2);
+        let h1 = if d12 <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d12).powf(1.0 / f64::from(q + 1))
+        };
+        let h = (100.0 * h0).min(h1).min(max_step);
+        // A zero scale (atol = 0 at a zero state) can make the estimate degenerate.
+        Ok(if h.is_finite() && h > 0.0 { h } else { h0 })
+    }
+}
+
+/// `v / scale`, where a zero scale (pure relative tolerance at a zero state) makes a
+/// zero `v` zero and any other `v` infinite.
+fn scaled(v: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        v / scale
+    } else if v == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// `out = x + h * sum_j w_j k_j`, skipping zero weights.
+fn combine(out: &mut [f64], x: &[f64], h: f64, w: &[f64], k: &[Vec<f64>]) {
+    out.copy_from_slice(x);
+    for (wj, kj) in w.iter().zip(k) {
+        if *wj != 0.0 {
+            let c = h * wj;
+            for (o, kv) in out.iter_mut().zip(kj) {
+                *o += c * kv;
+            }
+        }
+    }
+}
+
+/// Evaluates `out = f(t, x)` and checks it is finite.
+fn eval<M: Model>(
+    model: &M,
+    t: f64,
+    x: &[f64],
+    out: &mut [f64],
+    n_rhs: &mut usize,
+) -> Result<(), NonFinite> {
+    model.derivatives::<f64>(t, x, out);
+    *n_rhs += 1;
+    match out.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(index) => Err(NonFinite {
+            t,
+            index,
+            value: out[index],
+            kind: NonFiniteKind::Derivative,
+        }),
+    }
+}
+
+/// Checks that a state is finite.
+pub(crate) fn check_state(x: &[f64], t: f64) -> Result<(), NonFinite> {
+    match x.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(index) => Err(NonFinite {
+            t,
+            index,
+            value: x[index],
+            kind: NonFiniteKind::State,
+        }),
+    }
+}

@@ -1,0 +1,355 @@
+//! The public choice of integration method and its settings.
+
+use core::str::FromStr;
+
+use crate::error::SolverError;
+
+/// An integration method and its settings.
+///
+/// ```
+/// use bgdsl_runtime::{DormandPrinceOptions, Solver};
+///
+/// let fixed = Solver::rk4(1e-3);
+/// let adaptive = Solver::DormandPrince(DormandPrinceOptions {
+///     rtol: 1e-8,
+///     atol: 1e-10,
+///     ..DormandPrinceOptions::default()
+/// });
+/// let by_name: Solver = "dopri5".parse().unwrap();
+/// assert_eq!(by_name, Solver::default());
+/// assert_eq!(fixed.name(), "rk4");
+/// assert_eq!(adaptive.name(), "dopri5");
+/// ```
+///
+/// More methods (an implicit one for stiff models) will be added as further variants,
+/// hence `#[non_exhaustive]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Solver {
+    /// The classical fourth-order Runge–Kutta method with a fixed step. Every sample time
+    /// is hit exactly: a step that would pass one is shortened to end on it.
+    Rk4(FixedStep),
+    /// Dormand–Prince 5(4) with adaptive step-size control (the method of Hairer's
+    /// DOPRI5). Samples between steps come from its fourth-order continuous extension,
+    /// so sample times do not shorten the steps.
+    DormandPrince(DormandPrinceOptions),
+    /// The fifth-order Dormand–Prince formula with a fixed step and no error control,
+    /// sampled like [`Solver::Rk4`]. Meant for convergence studies and for comparing
+    /// against a fixed grid.
+    DormandPrinceFixed(FixedStep),
+}
+
+impl Solver {
+    /// The names [`Solver::from_name`] accepts, in the order of the variants.
+    pub const NAMES: &'static [&'static str] = &["rk4", "dopri5", "dopri5-fixed"];
+
+    /// Classical RK4 with step `step` and the default step budget.
+    pub fn rk4(step: f64) -> Self {
+        Solver::Rk4(FixedStep::new(step))
+    }
+
+    /// Adaptive Dormand–Prince 5(4) with the default options.
+    pub fn dopri5() -> Self {
+        Solver::DormandPrince(DormandPrinceOptions::default())
+    }
+
+    /// The solver called `name` (one of [`Solver::NAMES`], ASCII case ignored) with its
+    /// default settings; the fixed-step methods get [`FixedStep::DEFAULT_STEP`].
+    pub fn from_name(name: &str) -> Result<Self, SolverError> {
+        let lower = name.trim().to_ascii_lowercase();
+        match lower.as_str() {
+            "rk4" => Ok(Solver::Rk4(FixedStep::default())),
+            "dopri5" => Ok(Solver::dopri5()),
+            "dopri5-fixed" => Ok(Solver::DormandPrinceFixed(FixedStep::default())),
+            _ => Err(SolverError::UnknownSolver {
+                name: name.to_owned(),
+                valid: Self::NAMES,
+            }),
+        }
+    }
+
+    /// The solver's name, as accepted by [`Solver::from_name`].
+    pub fn name(&self) -> &'static str {
+        match self {
+            Solver::Rk4(_) => "rk4",
+            Solver::DormandPrince(_) => "dopri5",
+            Solver::DormandPrinceFixed(_) => "dopri5-fixed",
+        }
+    }
+
+    /// The step budget of one run: at most this many steps (accepted and rejected) are
+    /// attempted.
+    pub fn max_steps(&self) -> usize {
+        match self {
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.max_steps,
+            Solver::DormandPrince(o) => o.max_steps,
+        }
+    }
+
+    /// Checks every setting against its range; [`Simulation::new`](crate::Simulation::new)
+    /// calls this.
+    pub fn validate(&self) -> Result<(), SolverError> {
+        match self {
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.validate(),
+            Solver::DormandPrince(o) => o.validate(),
+        }
+    }
+}
+
+impl Default for Solver {
+    /// Adaptive Dormand–Prince 5(4) with the default options.
+    fn default() -> Self {
+        Solver::dopri5()
+    }
+}
+
+impl FromStr for Solver {
+    type Err = SolverError;
+
+    /// Same as [`Solver::from_name`].
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Solver::from_name(s)
+    }
+}
+
+/// Settings of a fixed-step method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FixedStep {
+    /// The step size (> 0). Steps lie on the grid `t0 + k * step`; a step is shortened
+    /// only to land on a sample time.
+    pub step: f64,
+    /// The step budget of one run (> 0).
+    pub max_steps: usize,
+}
+
+impl FixedStep {
+    /// The step [`Solver::from_name`] uses for the fixed-step methods.
+    pub const DEFAULT_STEP: f64 = 1e-3;
+    /// The default step budget.
+    pub const DEFAULT_MAX_STEPS: usize = 1_000_000;
+
+    /// Step `step` with the default step budget.
+    pub fn new(step: f64) -> Self {
+        FixedStep {
+            step,
+            max_steps: Self::DEFAULT_MAX_STEPS,
+        }
+    }
+
+    fn validate(&self) -> Result<(), SolverError> {
+        check(
+            "step",
+            self.step,
+            self.step.is_finite() && self.step > 0.0,
+            "a finite number > 0",
+        )?;
+        check_budget(self.max_steps)
+    }
+}
+
+impl Default for FixedStep {
+    fn default() -> Self {
+        FixedStep::new(Self::DEFAULT_STEP)
+    }
+}
+
+/// Settings of the adaptive Dormand–Prince 5(4) method.
+///
+/// A step is accepted when the error estimate, measured in the norm
+/// `sqrt(mean((err_i / (atol + rtol * max(|x_i|, |x_new_i|)))^2))`, is at most 1. The
+/// next step size follows the PI controller of Hairer's DOPRI5
+/// (`h_new = h * safety * err^-(1/5 - 0.75 beta) * err_prev^beta`, clamped to
+/// `[min_factor, max_factor] * h` and to `max_step`; after a rejection the step does
+/// not grow).
+///
+/// ```
+/// use bgdsl_runtime::DormandPrinceOptions;
+/// let tight = DormandPrinceOptions { rtol: 1e-10, atol: 1e-12, ..Default::default() };
+/// assert_eq!(tight.max_steps, 1_000_000);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DormandPrinceOptions {
+    /// Relative tolerance (>= 0; default `1e-6`).
+    pub rtol: f64,
+    /// Absolute tolerance (>= 0, and `rtol + atol > 0`; default `1e-9`).
+    pub atol: f64,
+    /// The first step size; `None` (the default) chooses it with the heuristic of
+    /// Hairer, Nørsett & Wanner, *Solving ODEs I*, Sect. II.4, at the cost of one extra
+    /// derivative evaluation.
+    pub initial_step: Option<f64>,
+    /// The largest step size (> 0; default infinite). The step that lands on the last
+    /// sample time may exceed it by up to 1 %.
+    pub max_step: f64,
+    /// The step budget of one run, counting accepted and rejected steps (> 0; default
+    /// 1,000,000).
+    pub max_steps: usize,
+    /// Safety factor of the step-size controller (in (0, 1); default 0.9).
+    pub safety: f64,
+    /// The smallest factor by which one step may shrink the step size (in (0, 1];
+    /// default 0.2).
+    pub min_factor: f64,
+    /// The largest factor by which one step may grow the step size (>= 1; default 10).
+    pub max_factor: f64,
+    /// The weight of the previous error in the PI controller (in [0, 0.2]; default
+    /// 0.04, as in DOPRI5; 0 gives the standard I controller).
+    pub beta: f64,
+}
+
+impl Default for DormandPrinceOptions {
+    fn default() -> Self {
+        DormandPrinceOptions {
+            rtol: 1e-6,
+            atol: 1e-9,
+            initial_step: None,
+            max_step: f64::INFINITY,
+            max_steps: 1_000_000,
+            safety: 0.9,
+            min_factor: 0.2,
+            max_factor: 10.0,
+            beta: 0.04,
+        }
+    }
+}
+
+impl DormandPrinceOptions {
+    fn validate(&self) -> Result<(), SolverError> {
+        let non_negative = "a finite number >= 0";
+        check(
+            "rtol",
+            self.rtol,
+            self.rtol.is_finite() && self.rtol >= 0.0,
+            non_negative,
+        )?;
+        check(
+            "atol",
+            self.atol,
+            self.atol.is_finite() && self.atol >= 0.0,
+            non_negative,
+        )?;
+        check(
+            "atol",
+            self.atol,
+            self.rtol > 0.0 || self.atol > 0.0,
+            "a number > 0 when rtol is 0",
+        )?;
+        if let Some(h) = self.initial_step {
+            check(
+                "initial_step",
+                h,
+                h.is_finite() && h > 0.0,
+                "a finite number > 0",
+            )?;
+        }
+        check(
+            "max_step",
+            self.max_step,
+            self.max_step > 0.0,
+            "a number > 0 (infinity allowed)",
+        )?;
+        check_budget(self.max_steps)?;
+        check(
+            "safety",
+            self.safety,
+            self.safety > 0.0 && self.safety < 1.0,
+            "a number in (0, 1)",
+        )?;
+        check(
+            "min_factor",
+            self.min_factor,
+            self.min_factor > 0.0 && self.min_factor <= 1.0,
+            "a number in (0, 1]",
+        )?;
+        check(
+            "max_factor",
+            self.max_factor,
+            self.max_factor.is_finite() && self.max_factor >= 1.0,
+            "a finite number >= 1",
+        )?;
+        check(
+            "beta",
+            self.beta,
+            (0.0..=0.2).contains(&self.beta),
+            "a number in [0, 0.2]",
+        )
+    }
+}
+
+fn check(
+    option: &'static str,
+    value: f64,
+    ok: bool,
+    expected: &'static str,
+) -> Result<(), SolverError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(SolverError::InvalidOptions {
+            option,
+            value,
+            expected,
+        })
+    }
+}
+
+fn check_budget(max_steps: usize) -> Result<(), SolverError> {
+    check(
+        "max_steps",
+        max_steps as f64,
+        max_steps > 0,
+        "an integer > 0",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for name in Solver::NAMES {
+            assert_eq!(Solver::from_name(name).unwrap().name(), *name);
+        }
+        assert_eq!(Solver::from_name(" RK4 ").unwrap(), Solver::rk4(1e-3));
+    }
+
+    #[test]
+    fn unknown_name_lists_the_valid_ones() {
+        let err = Solver::from_name("euler").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "unknown solver `euler`; the solvers are: rk4, dopri5, dopri5-fixed"
+        );
+    }
+
+    #[test]
+    fn out_of_range_options_are_rejected() {
+        assert!(Solver::default().validate().is_ok());
+        let bad = Solver::DormandPrince(DormandPrinceOptions {
+            rtol: -1.0,
+            ..Default::default()
+        });
+        assert!(matches!(
+            bad.validate(),
+            Err(SolverError::InvalidOptions { option: "rtol", .. })
+        ));
+        let zero = Solver::DormandPrince(DormandPrinceOptions {
+            rtol: 0.0,
+            atol: 0.0,
+            ..Default::default()
+        });
+        assert!(zero.validate().is_err());
+        assert!(Solver::rk4(0.0).validate().is_err());
+        assert!(Solver::rk4(f64::NAN).validate().is_err());
+        let no_budget = Solver::Rk4(FixedStep {
+            step: 0.1,
+            max_steps: 0,
+        });
+        assert!(matches!(
+            no_budget.validate(),
+            Err(SolverError::InvalidOptions {
+                option: "max_steps",
+                ..
+            })
+        ));
+    }
+}
