@@ -442,3 +442,135 @@ fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
         ),
     )
 }
+
+#[cfg(test)]
+mod should {
+    use super::*;
+
+    fn derive_text(text: &str) -> (Graph, syn::Result<Equations>) {
+        let file: crate::syntax::File = syn::parse_str(text).unwrap();
+        let graph = crate::resolve::resolve(file.models.into_iter().next().unwrap()).unwrap();
+        let causality = crate::causality::assign(&graph).unwrap();
+        let equations = derive(&graph, &causality);
+        (graph, equations)
+    }
+
+    /// `e3`, `f0`, `x1`: a compact name for each computed signal, in order.
+    fn order_of(equations: &Equations) -> Vec<String> {
+        equations
+            .ordered
+            .iter()
+            .map(|eq| match eq.defines {
+                Signal::Effort(b) => format!("e{}", b.0),
+                Signal::Flow(b) => format!("f{}", b.0),
+                Signal::State(i) => format!("x{i}"),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn compute_the_junction_sum_after_every_effort_it_reads() {
+        // Bonds: 0 push->v, 1 v->mass, 2 v->spring, 3 v->damper. The mass sets v's flow,
+        // so the damper's effort needs the flow copied from the mass first, and the
+        // mass's effort (the sum) comes last.
+        let (_, eqs) = derive_text(
+            "model M { Se push = 1.0; I mass = 1.0; C spring = 1.0; R damper = 1.0; 1 v;
+                       push -> v -> { mass, spring, damper }; }",
+        );
+        let eqs = eqs.unwrap();
+        let order = order_of(&eqs);
+        let at = |s: &str| order.iter().position(|o| o == s).unwrap();
+        assert!(at("f1") < at("f3") && at("f3") < at("e3"));
+        assert!(at("e0") < at("e1") && at("e2") < at("e1") && at("e3") < at("e1"));
+        assert_eq!(order.len(), 8);
+        // The mass's momentum integrates its effort; the spring's position its flow.
+        assert_eq!(
+            eqs.states[0].derivative,
+            Term::plus(Signal::Effort(BondId(1)))
+        );
+        assert_eq!(
+            eqs.states[1].derivative,
+            Term::plus(Signal::Flow(BondId(2)))
+        );
+    }
+
+    #[test]
+    fn sum_with_signs_from_the_half_arrows() {
+        // Bond 0 points into v, bond 1 out of it, bond 2 (the mass, setting the flow)
+        // out of it: e2 = e0 - e1.
+        let (_, eqs) = derive_text(
+            "model M { Se s = 1.0; C c = 1.0; I m = 1.0; 1 v; s -> v; v -> c; v -> m; }",
+        );
+        let eqs = eqs.unwrap();
+        let sum = eqs
+            .ordered
+            .iter()
+            .find(|eq| eq.defines == Signal::Effort(BondId(2)))
+            .unwrap();
+        let Rhs::Sum(terms) = &sum.rhs else {
+            panic!("a junction sum")
+        };
+        assert_eq!(
+            terms,
+            &[
+                Term::signed(false, Signal::Effort(BondId(0))),
+                Term::signed(true, Signal::Effort(BondId(1)))
+            ]
+        );
+    }
+
+    #[test]
+    fn negate_the_port_flow_of_a_storage_element_whose_bond_points_away() {
+        let (_, eqs) = derive_text(
+            "model M { Se s = 1.0; C c = 1.0; 1 v; s -> v; c -> v; I m = 1.0; v -> m; }",
+        );
+        let eqs = eqs.unwrap();
+        let c = eqs.states.iter().find(|s| s.var == "q").unwrap();
+        assert_eq!(c.derivative, Term::signed(true, Signal::Flow(BondId(1))));
+    }
+
+    #[test]
+    fn invert_a_linear_resistor_in_conductance_causality() {
+        let (_, eqs) = derive_text("model M { Se s = 1.0; R r = 2.0; C c = 1.0; I m = 1.0; 0 j; 1 k; s -> k -> { m, j }; j -> { r, c }; }");
+        let eqs = eqs.unwrap();
+        let r = eqs
+            .ordered
+            .iter()
+            .find(|eq| eq.defines == Signal::Flow(BondId(3)))
+            .unwrap();
+        assert!(matches!(r.rhs, Rhs::Scaled { divide: true, .. }));
+    }
+
+    #[test]
+    fn record_the_signals_a_modulated_law_reads() {
+        let (_, eqs) = derive_text(
+            "model M { Se s = -2.0 * m.f; I m = 1.0; 1 v; s -> v -> m; output y = s.e + t; }",
+        );
+        let eqs = eqs.unwrap();
+        let source = eqs
+            .ordered
+            .iter()
+            .find(|eq| eq.defines == Signal::Effort(BondId(0)))
+            .unwrap();
+        assert_eq!(source.deps, [Signal::Flow(BondId(1))]);
+        assert_eq!(eqs.outputs[0].deps, [Signal::Effort(BondId(0))]);
+    }
+
+    #[test]
+    fn name_the_elements_on_an_algebraic_loop() {
+        let (_, eqs) =
+            derive_text("model M { Se s = 1.0; R a = 1.0; R b = 2.0; 1 v; s -> v -> { a, b }; }");
+        let message = eqs.err().unwrap().to_string();
+        assert!(message.starts_with("algebraic loop: "), "{message}");
+        for name in ["R `a`", "R `b`", "1-junction `v`"] {
+            assert!(message.contains(name), "{message}");
+        }
+    }
+
+    #[test]
+    fn reject_a_signal_the_element_does_not_have() {
+        let (_, eqs) = derive_text("model M { Sf s = 1.0; C c = 1.0; s -> c; output y = c.p; }");
+        let message = eqs.err().unwrap().to_string();
+        assert_eq!(message, "C `c` has no signal `p`; it has e, f, q");
+    }
+}
