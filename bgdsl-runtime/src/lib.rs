@@ -26,6 +26,11 @@ pub use solver::{
     sample_times_uniform, simulate, DormandPrinceOptions, FixedStep, Simulation, Solver, Stats,
 };
 
+/// The README's examples, compiled and run as doctests so they cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;
+
 /// Items the generated code refers to. Not a public API: it may change at any time.
 #[doc(hidden)]
 pub mod __private {
