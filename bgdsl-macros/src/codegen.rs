@@ -79,6 +79,10 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         })
         .collect();
     let initial = initial_state(graph, equations);
+    let sparsity = equations
+        .jacobian_sparsity()
+        .into_iter()
+        .map(|row| quote!(&[#(#row),*]));
     let param_names: Vec<&Ident> = graph.params.iter().map(|p| &p.name).collect();
     let model_doc = if graph.attrs.iter().any(|a| a.path().is_ident("doc")) {
         quote!()
@@ -121,6 +125,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const NAME: &'static str = #name_str;
             const STATE_NAMES: &'static [&'static str] = &[#(#state_names),*];
             const OUTPUT_NAMES: &'static [&'static str] = &[#(#output_names),*];
+            const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [usize]]> =
+                ::core::option::Option::Some(&[#(#sparsity),*]);
 
             fn params(&self) -> &#params_ident {
                 &self.params

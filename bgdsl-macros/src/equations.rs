@@ -73,6 +73,29 @@ pub struct Equations {
     pub outputs: Vec<Rewritten>,
 }
 
+impl Equations {
+    /// For each state derivative, the states it depends on (sorted): the structural
+    /// sparsity of the Jacobian, followed through every assignment.
+    pub fn jacobian_sparsity(&self) -> Vec<Vec<usize>> {
+        let mut reads: BTreeMap<Signal, Vec<usize>> = BTreeMap::new();
+        let states_of = |signal: Signal, reads: &BTreeMap<Signal, Vec<usize>>| match signal {
+            Signal::State(i) => vec![i],
+            other => reads.get(&other).cloned().unwrap_or_default(),
+        };
+        for eq in &self.ordered {
+            let mut states: Vec<usize> =
+                eq.deps.iter().flat_map(|&d| states_of(d, &reads)).collect();
+            states.sort_unstable();
+            states.dedup();
+            reads.insert(eq.defines, states);
+        }
+        self.states
+            .iter()
+            .map(|s| states_of(s.derivative.signal, &reads))
+            .collect()
+    }
+}
+
 /// Derives and orders the equations, or reports algebraic loops and bad references.
 pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
     let mut errors = Errors::default();
@@ -565,6 +588,20 @@ mod should {
         for name in ["R `a`", "R `b`", "1-junction `v`"] {
             assert!(message.contains(name), "{message}");
         }
+    }
+
+    #[test]
+    fn follow_dependencies_through_junctions_into_the_jacobian_pattern() {
+        // Two masses coupled by a spring; the second also has a damper to ground. States:
+        // 0 a.p, 1 k.q, 2 b.p. ṗa = -k q; q̇ = va - vb; ṗb = k q - c vb.
+        let (_, eqs) = derive_text(
+            "model M { I a = 1.0; C k = 1.0; I b = 1.0; R c = 1.0; 1 va; 0 s; 1 vb;
+                       va -> a; va -> s -> k; s -> vb -> { b, c }; }",
+        );
+        assert_eq!(
+            eqs.unwrap().jacobian_sparsity(),
+            [vec![1], vec![0, 2], vec![1, 2]]
+        );
     }
 
     #[test]

@@ -42,6 +42,21 @@ pub trait Model {
     /// Writes the outputs at time `t` and state `x` into `y`.
     fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]);
 
+    /// The structure of the Jacobian ∂(dx/dt)/∂x: for each state derivative (row), the
+    /// states it can depend on, in increasing order. `None` means dense. Generated
+    /// models give the exact structural pattern, which the stiff solver uses to
+    /// compress Jacobian evaluation (columns that share no row are evaluated together).
+    const JACOBIAN_SPARSITY: Option<&'static [&'static [usize]]> = None;
+
+    /// A hand-written Jacobian ∂(dx/dt)/∂x at `(t, x)`, written row-major into `jac`
+    /// (`jac[i * n + j]` = ∂ẋᵢ/∂xⱼ). Return `true` when written; the default returns
+    /// `false`, and the solver then differentiates [`Model::derivatives`] exactly by
+    /// forward-mode automatic differentiation.
+    fn jacobian(&self, t: f64, x: &[f64], jac: &mut [f64]) -> bool {
+        let _ = (t, x, jac);
+        false
+    }
+
     /// The causal bond graph the model was generated from, if it has one.
     fn causal_graph(&self) -> Option<&'static CausalGraph> {
         None
