@@ -1,0 +1,24 @@
+//! The compile-fail catalogue: every mistake a `bond_graph!` block can contain, one
+//! small case each, with the compiler's output pinned in a `.stderr` snapshot next to it.
+//!
+//! Regenerate the snapshots with `TRYBUILD=overwrite cargo test -p bgdsl-tests --test
+//! compile_fail`, then read every changed `.stderr`: the error must sit on the user's
+//! text, say how to mend it, and never be "proc macro panicked".
+
+#[test]
+fn ui() {
+    let cases = trybuild::TestCases::new();
+    // Statements that do not parse.
+    cases.compile_fail("ui/syntax/*.rs");
+    // Names, bonds, ports, laws and initial conditions that do not fit together.
+    cases.compile_fail("ui/structure/*.rs");
+    // Sequential causality assignment: conflicts, derivative causality, algebraic
+    // loops, a resistor law in the wrong form.
+    cases.compile_fail("ui/causality/*.rs");
+    // Expressions in laws and outputs: unknown signals, own variables, type errors.
+    cases.compile_fail("ui/laws/*.rs");
+    // Several independent mistakes, all reported by one compile.
+    cases.compile_fail("ui/multiple/*.rs");
+    // A broken model next to user code that names it: only the model's own errors.
+    cases.compile_fail("ui/stub/*.rs");
+}

@@ -1,0 +1,13 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model Oscillator {
+        Sf push = 1.0;
+        C spring = 100.0;
+        Q x = 1.0;
+        push -> spring;
+        init spring.p = 0.01;
+    }
+}
+
+fn main() {}

@@ -1,0 +1,15 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model Oscillator {
+        Se push = 1.0;
+        I mass = 1.0;
+        R damper { e = 0.4 * f + q };
+        1 v;
+        push -> v -> { mass, damper };
+        output x = mass.x;
+        output y = 2.0 * mass;
+    }
+}
+
+fn main() {}

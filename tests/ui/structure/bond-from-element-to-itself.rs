@@ -1,0 +1,13 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model Oscillator {
+        Sf push = 1.0;
+        C spring = 100.0;
+        1 v;
+        push -> v -> spring;
+        v -> v;
+    }
+}
+
+fn main() {}

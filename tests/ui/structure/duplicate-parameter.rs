@@ -1,0 +1,13 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model Oscillator {
+        param k = 100.0;
+        param k = 50.0;
+        Sf push = 1.0;
+        C spring = k;
+        push -> spring;
+    }
+}
+
+fn main() {}

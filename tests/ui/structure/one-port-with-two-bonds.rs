@@ -1,0 +1,12 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model Oscillator {
+        Se push = 1.0;
+        C spring = 100.0;
+        I mass = 1.0;
+        push -> { spring, mass };
+    }
+}
+
+fn main() {}

@@ -1,0 +1,11 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    pub Oscillator {
+        Sf push = 1.0;
+        C spring = 100.0;
+        push -> spring;
+    }
+}
+
+fn main() {}

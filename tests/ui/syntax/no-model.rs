@@ -1,0 +1,5 @@
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {}
+
+fn main() {}
