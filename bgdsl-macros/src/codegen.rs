@@ -20,7 +20,16 @@ use crate::signals::Term;
 pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> TokenStream {
     let vis = &graph.vis;
     let name = &graph.name;
-    let params_struct = params_struct(graph);
+    let params: Vec<ParamDecl> = graph
+        .params
+        .iter()
+        .map(|p| ParamDecl {
+            attrs: &p.attrs,
+            name: &p.name,
+            default: &p.default,
+        })
+        .collect();
+    let params_struct = params_struct(vis, name, &params);
     let params_ident = params_ident(name);
     let state_names: Vec<String> = equations
         .states
@@ -105,9 +114,9 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
 
         impl #name {
             /// The number of states.
-            pub const N_STATES: usize = #n_states;
+            pub const N_STATES: ::core::primitive::usize = #n_states;
             /// The number of outputs.
-            pub const N_OUTPUTS: usize = #n_outputs;
+            pub const N_OUTPUTS: ::core::primitive::usize = #n_outputs;
             #graph_const
 
             /// The model with the given parameters.
@@ -122,10 +131,10 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         #[automatically_derived]
         impl ::bgdsl_runtime::Model for #name {
             type Params = #params_ident;
-            const NAME: &'static str = #name_str;
-            const STATE_NAMES: &'static [&'static str] = &[#(#state_names),*];
-            const OUTPUT_NAMES: &'static [&'static str] = &[#(#output_names),*];
-            const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [usize]]> =
+            const NAME: &'static ::core::primitive::str = #name_str;
+            const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[#(#state_names),*];
+            const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[#(#output_names),*];
+            const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
                 ::core::option::Option::Some(&[#(#sparsity),*]);
 
             fn params(&self) -> &#params_ident {
@@ -133,15 +142,15 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             }
 
             #[allow(unused_variables, clippy::all)]
-            fn initial_state(&self, __x0: &mut [f64]) {
+            fn initial_state(&self, __x0: &mut [::core::primitive::f64]) {
                 ::core::assert_eq!(__x0.len(), #n_states, "state vector length");
-                #( let #param_names: f64 = self.params.#param_names; )*
+                #( let #param_names: ::core::primitive::f64 = self.params.#param_names; )*
                 #initial
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
             #[inline]
-            fn derivatives<__T: ::bgdsl_runtime::Scalar>(&self, __t: f64, __x: &[__T], __dx: &mut [__T]) {
+            fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __dx: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
                 #body
@@ -149,7 +158,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
-            fn outputs<__T: ::bgdsl_runtime::Scalar>(&self, __t: f64, __x: &[__T], __y: &mut [__T]) {
+            fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __y: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
                 #body
@@ -163,29 +172,81 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     }
 }
 
-/// What the macro emits for a model with mistakes: the types with the right names, so
-/// the user's other code that names them does not drown in follow-on errors.
-pub fn stub(vis: &Visibility, name: &Ident) -> TokenStream {
+/// What the macro emits for a model with mistakes: its items with the right names
+/// (the parameter struct with its real fields, `new`, `GRAPH`, the state and output
+/// records, the `Model` implementation), so the user's other code that names them does
+/// not drown in follow-on errors.
+pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
+    let vis = &model.vis;
+    let name = &model.name;
     let params_ident = params_ident(name);
     let name_str = name.to_string();
+    let mut seen = std::collections::BTreeSet::new();
+    let params: Vec<ParamDecl> = model
+        .stmts
+        .iter()
+        .filter_map(|stmt| match stmt {
+            crate::syntax::Stmt::Param(p) if seen.insert(p.name.to_string()) => Some(ParamDecl {
+                attrs: &p.attrs,
+                name: &p.name,
+                default: &p.default,
+            }),
+            _ => None,
+        })
+        .collect();
+    let params_struct = params_struct(vis, name, &params);
+    let no_fields: &[Ident] = &[];
+    let state = record_struct(
+        vis,
+        &format_ident!("{}State", name),
+        "The state.",
+        no_fields,
+        &[],
+    );
+    let outputs = record_struct(
+        vis,
+        &format_ident!("{}Outputs", name),
+        "The outputs.",
+        no_fields,
+        &[],
+    );
     quote! {
-        #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
-        #vis struct #params_ident {}
+        #params_struct
+        #state
+        #outputs
+
+        /// The model (it has errors: see the compiler's messages).
         #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
         #vis struct #name {
+            /// The parameters.
             pub params: #params_ident,
         }
+
+        impl #name {
+            /// The number of states.
+            pub const N_STATES: ::core::primitive::usize = 0;
+            /// The number of outputs.
+            pub const N_OUTPUTS: ::core::primitive::usize = 0;
+            /// The causal bond graph.
+            pub const GRAPH: ::bgdsl_runtime::CausalGraph =
+                ::bgdsl_runtime::CausalGraph { model: #name_str, elements: &[], bonds: &[] };
+            /// The model with the given parameters.
+            pub const fn new(params: #params_ident) -> Self {
+                Self { params }
+            }
+        }
+
         impl ::bgdsl_runtime::Model for #name {
             type Params = #params_ident;
-            const NAME: &'static str = #name_str;
-            const STATE_NAMES: &'static [&'static str] = &[];
-            const OUTPUT_NAMES: &'static [&'static str] = &[];
+            const NAME: &'static ::core::primitive::str = #name_str;
+            const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[];
+            const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[];
             fn params(&self) -> &#params_ident {
                 &self.params
             }
-            fn initial_state(&self, _: &mut [f64]) {}
-            fn derivatives<__T: ::bgdsl_runtime::Scalar>(&self, _: f64, _: &[__T], _: &mut [__T]) {}
-            fn outputs<__T: ::bgdsl_runtime::Scalar>(&self, _: f64, _: &[__T], _: &mut [__T]) {}
+            fn initial_state(&self, _: &mut [::core::primitive::f64]) {}
+            fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, _: ::core::primitive::f64, _: &[Scalar], _: &mut [Scalar]) {}
+            fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, _: ::core::primitive::f64, _: &[Scalar], _: &mut [Scalar]) {}
         }
     }
 }
@@ -224,27 +285,33 @@ fn f64_expr(expr: &Expr) -> TokenStream {
     }
 }
 
-fn params_struct(graph: &Graph) -> TokenStream {
-    let vis = &graph.vis;
-    let ident = params_ident(&graph.name);
-    let doc = format!(
-        "Parameters of [`{}`], with the declared values as defaults.",
-        graph.name
-    );
-    let fields = graph.params.iter().map(|p| {
-        let name = &p.name;
-        let attrs = &p.attrs;
-        let default = &p.default;
+/// A parameter as code generation needs it (from the IR, or from syntax for a stub).
+pub struct ParamDecl<'a> {
+    /// Doc comments and attributes.
+    pub attrs: &'a [syn::Attribute],
+    /// The name.
+    pub name: &'a Ident,
+    /// The default value.
+    pub default: &'a Expr,
+}
+
+fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> TokenStream {
+    let ident = params_ident(model);
+    let doc = format!("Parameters of [`{model}`], with the declared values as defaults.");
+    let fields = params.iter().map(|p| {
+        let name = p.name;
+        let attrs = p.attrs;
+        let default = p.default;
         let default_text = quote!(#default).to_string();
         let doc = if doc_text(attrs).is_some() {
             format!("\n\nDefault: `{default_text}`.")
         } else {
             format!("Parameter `{name}`; default `{default_text}`.")
         };
-        quote!(#(#attrs)* #[doc = #doc] pub #name: f64,)
+        quote!(#(#attrs)* #[doc = #doc] pub #name: ::core::primitive::f64,)
     });
-    let names: Vec<&Ident> = graph.params.iter().map(|p| &p.name).collect();
-    let defaults = graph.params.iter().map(|p| f64_expr(&p.default));
+    let names: Vec<&Ident> = params.iter().map(|p| p.name).collect();
+    let defaults = params.iter().map(|p| f64_expr(p.default));
     quote! {
         #[doc = #doc]
         #[derive(
@@ -263,7 +330,7 @@ fn params_struct(graph: &Graph) -> TokenStream {
         impl ::core::default::Default for #ident {
             #[allow(clippy::all)]
             fn default() -> Self {
-                #( let #names: f64 = #defaults; )*
+                #( let #names: ::core::primitive::f64 = #defaults; )*
                 Self { #(#names),* }
             }
         }
@@ -280,11 +347,21 @@ fn record_struct(
     let n = fields.len();
     let indices = 0..n;
     let indices2 = 0..n;
+    // A record with no entries still needs its type parameter used.
+    let (marker_field, marker_value) = if n == 0 {
+        (
+            quote!(#[doc(hidden)] pub __marker: ::core::marker::PhantomData<T>,),
+            quote!(__marker: ::core::marker::PhantomData,),
+        )
+    } else {
+        (quote!(), quote!())
+    };
     quote! {
         #[doc = #doc]
         #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
         #vis struct #ident<T> {
             #( #[doc = #docs] pub #fields: T, )*
+            #marker_field
         }
 
         impl<T: ::core::marker::Copy> #ident<T> {
@@ -292,7 +369,7 @@ fn record_struct(
             #[allow(unused_variables)]
             pub fn from_slice(values: &[T]) -> Self {
                 ::core::assert_eq!(values.len(), #n, "vector length");
-                Self { #( #fields: values[#indices], )* }
+                Self { #( #fields: values[#indices], )* #marker_value }
             }
 
             /// Writes the values in vector order. Panics if `values` has the wrong length.
@@ -324,15 +401,15 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
 
 /// Binds time, parameters and states, then computes every bond variable in order.
 fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
-    let scalar = quote!(<__T as ::bgdsl_runtime::Scalar>);
+    let scalar = quote!(<Scalar as ::bgdsl_runtime::Scalar>);
     let time = Ident::new("t", Span::call_site());
     let params = graph.params.iter().map(|p| {
         let name = &p.name;
-        quote!(let #name: __T = #scalar::from_f64(self.params.#name);)
+        quote!(let #name: Scalar = #scalar::from_f64(self.params.#name);)
     });
     let states = (0..equations.states.len()).map(|i| {
         let ident = crate::signals::Signal::State(i).ident(Span::call_site());
-        quote!(let #ident: __T = __x[#i];)
+        quote!(let #ident: Scalar = __x[#i];)
     });
     let assignments = equations.ordered.iter().map(|eq| {
         let span = graph.element(eq.element).name.span();
@@ -346,7 +423,7 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
                 let binds = bindings.iter().map(|(var, term)| {
                     let var = Ident::new(var, Span::call_site());
                     let term = term_tokens(*term, span);
-                    quote!(let #var: __T = #term;)
+                    quote!(let #var: Scalar = #term;)
                 });
                 let sign = negate.then(|| quote!(-));
                 quote_spanned!(span=> #sign { #(#binds)* #expr })
@@ -365,10 +442,10 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
                 }
             }
         };
-        quote!(let #target: __T = #value;)
+        quote!(let #target: Scalar = #value;)
     });
     quote! {
-        let #time: __T = #scalar::from_f64(__t);
+        let #time: Scalar = #scalar::from_f64(__t);
         #(#params)*
         #(#states)*
         #(#assignments)*
@@ -387,7 +464,7 @@ fn sum(terms: &[Term], span: Span) -> TokenStream {
         });
     }
     if terms.is_empty() {
-        quote!(<__T as ::bgdsl_runtime::Scalar>::from_f64(0.0))
+        quote!(<Scalar as ::bgdsl_runtime::Scalar>::from_f64(0.0))
     } else {
         tokens
     }

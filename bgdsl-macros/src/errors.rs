@@ -33,6 +33,11 @@ impl Errors {
         self.push(error);
     }
 
+    /// True when nothing was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
     /// All the errors as one, or `Ok` when there were none.
     pub fn finish(self) -> syn::Result<()> {
         let mut list = self.list.into_iter();

@@ -17,7 +17,7 @@ pub fn expand(input: TokenStream) -> TokenStream {
 }
 
 fn expand_model(model: ModelDef) -> TokenStream {
-    let stub = codegen::stub(&model.vis, &model.name);
+    let stub = codegen::stub(&model);
     match try_expand(model) {
         Ok(tokens) => tokens,
         Err(error) => {

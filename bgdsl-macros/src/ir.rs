@@ -123,6 +123,8 @@ impl Bond {
 pub struct Init {
     /// The storage element.
     pub element: ElementId,
+    /// Where the element is named in the `init` statement.
+    pub span: proc_macro2::Span,
     /// The value, an expression in parameters.
     pub value: Expr,
 }

@@ -22,6 +22,7 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
     let mut resolver = Resolver {
         errors,
         names: BTreeMap::new(),
+        poisoned: model.poisoned.iter().map(|n| n.to_string()).collect(),
         graph: Graph {
             attrs: model.attrs,
             vis: model.vis,
@@ -48,10 +49,15 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
     for chain in chains {
         resolver.connect(chain);
     }
-    resolver.check_ports();
+    // A statement that did not parse or a name that did not resolve leaves elements
+    // with bonds missing: counting them then would only report follow-on errors.
+    if resolver.errors.is_empty() {
+        resolver.check_ports();
+    }
     for init in inits {
         resolver.initial_condition(init);
     }
+    resolver.lint_expressions();
     resolver.errors.finish()?;
     Ok(resolver.graph)
 }
@@ -69,6 +75,9 @@ struct Resolver {
     /// Parameters, elements and bond labels share one namespace: a law says `k` for a
     /// parameter and `spring.e` for an element's effort.
     names: BTreeMap<String, (Named, Ident)>,
+    /// Names whose declaration failed or was duplicated: references to them would only
+    /// produce follow-on errors, so they are passed over quietly.
+    poisoned: std::collections::BTreeSet<String>,
     graph: Graph,
 }
 
@@ -76,6 +85,7 @@ impl Resolver {
     fn claim(&mut self, name: &Ident, what: Named) -> bool {
         let key = name.to_string();
         if let Some((_, first)) = self.names.get(&key) {
+            self.poisoned.insert(key.clone());
             self.errors.with_note(
                 name.span(),
                 format!("the name `{name}` is declared twice"),
@@ -210,6 +220,9 @@ impl Resolver {
     }
 
     fn lookup_element(&mut self, name: &Ident) -> Option<ElementId> {
+        if self.poisoned.contains(&name.to_string()) {
+            return None;
+        }
         match self.names.get(&name.to_string()) {
             Some((Named::Element(id), _)) => Some(*id),
             Some((Named::Param, _)) => {
@@ -375,20 +388,71 @@ impl Resolver {
             );
             return;
         }
-        if self.graph.inits.iter().any(|i| i.element == id) {
-            self.errors.at(
+        if let Some(first) = self.graph.inits.iter().find(|i| i.element == id) {
+            let first = first.span;
+            self.errors.with_note(
                 init.element.span(),
                 format!(
                     "`{}.{expected}` is given an initial value twice",
                     init.element
                 ),
+                first,
+                "first given here",
             );
             return;
         }
         self.graph.inits.push(Init {
             element: id,
+            span: init.element.span(),
             value: init.value,
         });
+    }
+}
+
+impl Resolver {
+    /// Checks the names every law and output uses (see [`crate::rewrite::lint`]), so
+    /// such mistakes are reported together with the structural ones.
+    fn lint_expressions(&mut self) {
+        use crate::rewrite::{lint, Named as Target};
+        let graph = &self.graph;
+        let lookup = |name: &Ident| -> Option<Target> {
+            if let Some(id) = graph
+                .element_ids()
+                .find(|&id| graph.element(id).name == *name)
+            {
+                return Some(Target::Element(graph.element(id).kind, graph.describe(id)));
+            }
+            graph
+                .bonds
+                .iter()
+                .any(|b| b.label.as_ref() == Some(name))
+                .then_some(Target::Bond)
+        };
+        for id in graph.element_ids() {
+            let element = graph.element(id);
+            let context = format!("the law of {}", graph.describe(id));
+            match &element.law {
+                Law::Linear(expr) => lint(expr, &lookup, &[], &context, &mut self.errors),
+                Law::Forms { effort, flow } => {
+                    let (effort_own, flow_own): (&[&str], &[&str]) = match element.kind {
+                        ElementKind::C => (&["q"], &[]),
+                        ElementKind::I => (&[], &["p"]),
+                        _ => (&["f"], &["e"]),
+                    };
+                    if let Some(expr) = effort {
+                        lint(expr, &lookup, effort_own, &context, &mut self.errors);
+                    }
+                    if let Some(expr) = flow {
+                        lint(expr, &lookup, flow_own, &context, &mut self.errors);
+                    }
+                }
+                Law::None => {}
+            }
+        }
+        for output in &graph.outputs {
+            let context = format!("the output `{}`", output.name);
+            lint(&output.expr, &lookup, &[], &context, &mut self.errors);
+        }
     }
 }
 
@@ -460,18 +524,39 @@ mod should {
     }
 
     #[test]
-    fn report_every_structural_mistake_at_once() {
+    fn report_every_naming_mistake_at_once() {
         let m = messages(
-            "model M { param k = 1.0; C k = 2.0; Se s = 1.0; Se s2 = 1.0; R r = 1.0; TF t = 1.0; \
-             s -> rr; s2 -> t; r -> t; }",
+            "model M { param k = 1.0; C k = 2.0; Se s = 1.0; R r = 1.0; 1 v; s -> v -> r; v -> rr;
+                       output y = s.x; output z = 2.0 * r; }",
         );
         assert_eq!(m.len(), 5, "{m:?}");
         assert!(m[0].contains("declared twice"));
         assert!(m[2].starts_with("unknown element `rr` (did you mean `r`?)"));
-        assert!(m
-            .iter()
-            .any(|e| e.contains("both bonds of TF `t` point into it")));
-        assert!(m.iter().any(|e| e.contains("Se `s` is not connected")));
+        assert_eq!(m[3], "Se `s` has no signal `x`; it has e, f");
+        assert!(m[4].starts_with("R `r` is an element, not a value"));
+    }
+
+    #[test]
+    fn report_every_port_mistake_at_once() {
+        let m = messages(
+            "model M { Se s = 1.0; Se s2 = 1.0; R r = 1.0; TF t = 1.0; s2 -> t; r -> t; }",
+        );
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(m[0].contains("Se `s` is not connected"));
+        assert!(m[1].contains("both bonds of TF `t` point into it"));
+    }
+
+    #[test]
+    fn stay_quiet_about_names_whose_declaration_failed() {
+        // `1 v = 3.0` keeps v; `C c = ;` poisons c; the duplicate `k` is poisoned too.
+        let m = messages("model M { param k = 1.0; Se k = 1.0; 1 v = 3.0; C c = ; Sf s = 1.0; s -> v -> { c, k }; }");
+        assert_eq!(m.len(), 4, "{m:?}");
+        assert!(m[0].starts_with("a 1-junction has no constitutive law"));
+        assert!(
+            m[1].starts_with("expected an expression") || m[1].starts_with("unexpected end"),
+            "{m:?}"
+        );
+        assert!(m[2].contains("declared twice"));
     }
 
     #[test]

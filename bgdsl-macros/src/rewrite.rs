@@ -22,10 +22,6 @@ pub struct Scope<'a> {
     pub graph: &'a Graph,
     /// The state index of each storage element.
     pub state_of: &'a [Option<usize>],
-    /// The element's own variables bound for this expression (`q`, `f`, ...).
-    pub own: &'a [&'static str],
-    /// What the expression belongs to, for messages ("the law of C `spring`").
-    pub context: String,
 }
 
 /// The rewritten expression and the signals it reads.
@@ -89,20 +85,128 @@ pub fn element_signal(
         (ElementKind::Tf | ElementKind::Gy, "f2") => Some(Term::plus(Signal::Flow(bond(1)))),
         _ => None,
     };
-    term.ok_or_else(|| {
-        let available = match el.kind {
-            ElementKind::C => "e, f, q",
-            ElementKind::I => "e, f, p",
-            ElementKind::Se | ElementKind::Sf | ElementKind::R => "e, f",
-            ElementKind::Zero => "e (its common effort; name a bond `a -[b]-> c` to read a flow)",
-            ElementKind::One => "f (its common flow; name a bond `a -[b]-> c` to read an effort)",
-            ElementKind::Tf | ElementKind::Gy => "e1, f1, e2, f2",
-        };
-        format!(
-            "{} has no signal `{member}`; it has {available}",
-            graph.describe(element)
-        )
-    })
+    term.ok_or_else(|| no_such_signal(&graph.describe(element), el.kind, member))
+}
+
+/// The message for `element.member` when the element has no such signal.
+fn no_such_signal(described: &str, kind: ElementKind, member: &str) -> String {
+    let available = match kind {
+        ElementKind::C => "e, f, q",
+        ElementKind::I => "e, f, p",
+        ElementKind::Se | ElementKind::Sf | ElementKind::R => "e, f",
+        ElementKind::Zero => "e (its common effort; name a bond `a -[b]-> c` to read a flow)",
+        ElementKind::One => "f (its common flow; name a bond `a -[b]-> c` to read an effort)",
+        ElementKind::Tf | ElementKind::Gy => "e1, f1, e2, f2",
+    };
+    format!("{described} has no signal `{member}`; it has {available}")
+}
+
+/// The signals each kind of element has.
+fn has_signal(kind: ElementKind, member: &str) -> bool {
+    match kind {
+        ElementKind::C => ["e", "f", "q"].contains(&member),
+        ElementKind::I => ["e", "f", "p"].contains(&member),
+        ElementKind::Se | ElementKind::Sf | ElementKind::R => ["e", "f"].contains(&member),
+        ElementKind::Zero => member == "e",
+        ElementKind::One => member == "f",
+        ElementKind::Tf | ElementKind::Gy => ["e1", "f1", "e2", "f2"].contains(&member),
+    }
+}
+
+/// What a name in an expression refers to, as checking needs it.
+pub enum Named {
+    /// An element: its kind and how messages name it.
+    Element(ElementKind, String),
+    /// A bond label.
+    Bond,
+}
+
+/// Checks the names an expression uses, before any causality is known: signals the
+/// element has, elements not used as values, and own variables that exist here.
+pub fn lint(
+    expr: &Expr,
+    lookup: &dyn Fn(&Ident) -> Option<Named>,
+    own: &[&str],
+    context: &str,
+    errors: &mut crate::errors::Errors,
+) {
+    let mut linter = Linter {
+        lookup,
+        own,
+        context,
+        errors,
+    };
+    syn::visit::Visit::visit_expr(&mut linter, expr);
+}
+
+struct Linter<'a> {
+    lookup: &'a dyn Fn(&Ident) -> Option<Named>,
+    own: &'a [&'a str],
+    context: &'a str,
+    errors: &'a mut crate::errors::Errors,
+}
+
+impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
+    fn visit_expr(&mut self, expr: &'ast Expr) {
+        match expr {
+            Expr::Field(field) => {
+                if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member)
+                {
+                    let word = member.to_string();
+                    match (self.lookup)(base) {
+                        Some(Named::Element(kind, described)) => {
+                            if !has_signal(kind, &word) {
+                                self.errors
+                                    .at(member.span(), no_such_signal(&described, kind, &word));
+                            }
+                            return;
+                        }
+                        Some(Named::Bond) => {
+                            if word != "e" && word != "f" {
+                                self.errors.at(
+                                    member.span(),
+                                    format!(
+                                        "bond `{base}` has no signal `{word}`; a bond has e and f"
+                                    ),
+                                );
+                            }
+                            return;
+                        }
+                        None => {}
+                    }
+                }
+                syn::visit::visit_expr_field(self, field);
+            }
+            Expr::Path(_) => {
+                let Some(name) = as_ident(expr) else { return };
+                let word = name.to_string();
+                match (self.lookup)(name) {
+                    Some(Named::Element(_, described)) => self.errors.at(
+                        name.span(),
+                        format!("{described} is an element, not a value: read one of its signals, e.g. `{name}.e`"),
+                    ),
+                    Some(Named::Bond) => self.errors.at(
+                        name.span(),
+                        format!("bond `{name}` is not a value: read `{name}.e` or `{name}.f`"),
+                    ),
+                    None if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.own.contains(&word.as_str()) => {
+                        let own = if self.own.is_empty() {
+                            "none: refer to signals by element, e.g. `spring.q`".to_string()
+                        } else {
+                            self.own.join(", ")
+                        };
+                        self.errors.at(
+                            name.span(),
+                            format!("`{word}` is not available in {}; its own variables are {own}", self.context),
+                        );
+                    }
+                    None => {}
+                }
+            }
+            Expr::Macro(_) => {}
+            _ => syn::visit::visit_expr(self, expr),
+        }
+    }
 }
 
 /// The tokens of a term: `__e3` or `(-__f2)`.
@@ -115,10 +219,10 @@ pub fn term_tokens(term: Term, span: Span) -> proc_macro2::TokenStream {
     }
 }
 
-/// `<__T as Scalar>::from_f64(value)` at the literal's span.
+/// `<Scalar as Scalar>::from_f64(value)` at the literal's span.
 pub fn scalar_literal(lit: &LitFloat) -> Expr {
     let span = lit.span();
-    Expr::Verbatim(quote_spanned!(span=> <__T as ::bgdsl_runtime::Scalar>::from_f64(#lit)))
+    Expr::Verbatim(quote_spanned!(span=> <Scalar as ::bgdsl_runtime::Scalar>::from_f64(#lit)))
 }
 
 struct Rewriter<'s, 'e> {
@@ -243,33 +347,6 @@ impl VisitMut for Rewriter<'_, '_> {
                     int_to_float(&mut binary.right);
                 }
                 syn::visit_mut::visit_expr_binary_mut(self, binary);
-            }
-            Expr::Path(_) => {
-                if let Some(name) = as_ident(expr).cloned() {
-                    let word = name.to_string();
-                    if let Some(Lookup::Element(id)) = self.lookup(&name) {
-                        let what = self.scope.graph.describe(id);
-                        self.errors.at(
-                            name.span(),
-                            format!("{what} is an element, not a value: read one of its signals, e.g. `{name}.e`"),
-                        );
-                    } else if ["e", "f", "q", "p"].contains(&word.as_str())
-                        && !self.scope.own.contains(&word.as_str())
-                    {
-                        let own = if self.scope.own.is_empty() {
-                            "none: refer to signals by element, e.g. `spring.q`".to_string()
-                        } else {
-                            self.scope.own.join(", ")
-                        };
-                        self.errors.at(
-                            name.span(),
-                            format!(
-                                "`{word}` is not available in {}; its own variables are {own}",
-                                self.scope.context
-                            ),
-                        );
-                    }
-                }
             }
             Expr::Macro(_) => {}
             _ => syn::visit_mut::visit_expr_mut(self, expr),

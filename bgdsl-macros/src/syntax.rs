@@ -35,8 +35,12 @@ pub struct ModelDef {
     pub name: Ident,
     /// The statements that parsed.
     pub stmts: Vec<Stmt>,
-    /// Errors from statements that did not parse (each skipped to its `;`).
+    /// Errors from statements that did not parse (each skipped to its `;`) and
+    /// mistakes the parser could step over.
     pub errors: Vec<syn::Error>,
+    /// Names that statements which failed to parse meant to declare: later stages
+    /// stay quiet about them instead of reporting follow-on errors.
+    pub poisoned: Vec<Ident>,
 }
 
 /// One statement inside a model.
@@ -245,11 +249,14 @@ impl Parse for ModelDef {
         braced!(body in input);
         let mut stmts = Vec::new();
         let mut errors = Vec::new();
+        let mut poisoned = Vec::new();
         while !body.is_empty() {
-            match parse_stmt(&body) {
+            let start = body.fork();
+            match parse_stmt(&body, &mut errors) {
                 Ok(stmt) => stmts.push(stmt),
                 Err(error) => {
                     errors.push(error);
+                    poisoned.extend(declared_name(&start));
                     skip_past_semicolon(&body);
                 }
             }
@@ -260,8 +267,42 @@ impl Parse for ModelDef {
             name,
             stmts,
             errors,
+            poisoned,
         })
     }
+}
+
+/// The name a statement declares, read without parsing it: `KIND name ...`,
+/// `param name ...` or `output name ...`.
+fn declared_name(input: ParseStream) -> Option<Ident> {
+    let _ = input.call(Attribute::parse_outer);
+    let declares = input.peek(Ident) || input.peek(LitInt);
+    if declares && input.peek2(Ident) {
+        let _ = input.parse::<proc_macro2::TokenTree>();
+        input.parse::<Ident>().ok()
+    } else {
+        None
+    }
+}
+
+/// Runs `parse` on the contents of a delimited group and, if it fails, consumes what
+/// is left of the group: syn otherwise turns the leftover tokens into an "unexpected
+/// token" error that replaces every other error of the invocation.
+fn parse_group<T>(
+    group: ParseStream,
+    parse: impl FnOnce(ParseStream) -> syn::Result<T>,
+) -> syn::Result<T> {
+    let result = parse(group);
+    if result.is_err() {
+        let _ = group.step(|cursor| {
+            let mut rest = *cursor;
+            while let Some((_, next)) = rest.token_tree() {
+                rest = next;
+            }
+            Ok(((), rest))
+        });
+    }
+    result
 }
 
 /// Error recovery: drop tokens up to and including the next `;` at this level, so one
@@ -281,7 +322,7 @@ fn skip_past_semicolon(input: ParseStream) {
     });
 }
 
-fn parse_stmt(input: ParseStream) -> syn::Result<Stmt> {
+fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Result<Stmt> {
     let attrs = input.call(Attribute::parse_outer)?;
     let lookahead = input.lookahead1();
     let stmt = if lookahead.peek(kw::param) {
@@ -314,10 +355,15 @@ fn parse_stmt(input: ParseStream) -> syn::Result<Stmt> {
         let expr = input.parse()?;
         Stmt::Output(OutputDecl { attrs, name, expr })
     } else if lookahead.peek(LitInt) {
-        Stmt::Element(parse_junction(input)?)
-    } else if lookahead.peek(Ident) && input.peek2(Ident) {
-        Stmt::Element(parse_element(input)?)
-    } else if lookahead.peek(Ident) || lookahead.peek(syn::token::Brace) {
+        Stmt::Element(parse_junction(input, recovered)?)
+    } else if lookahead.peek(Ident) {
+        if input.peek2(Ident) {
+            Stmt::Element(parse_element(input)?)
+        } else {
+            no_attrs(&attrs, "a bond statement")?;
+            Stmt::Bonds(input.parse()?)
+        }
+    } else if lookahead.peek(syn::token::Brace) {
         no_attrs(&attrs, "a bond statement")?;
         Stmt::Bonds(input.parse()?)
     } else {
@@ -337,7 +383,7 @@ fn no_attrs(attrs: &[Attribute], what: &str) -> syn::Result<()> {
     }
 }
 
-fn parse_junction(input: ParseStream) -> syn::Result<ElementDecl> {
+fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Result<ElementDecl> {
     let lit: LitInt = input.parse()?;
     let kind = match lit.base10_digits() {
         "0" if lit.suffix().is_empty() => ElementKind::Zero,
@@ -354,12 +400,23 @@ fn parse_junction(input: ParseStream) -> syn::Result<ElementDecl> {
     };
     let name = input.parse()?;
     if input.peek(Token![=]) || input.peek(syn::token::Brace) {
-        return Err(input.error(format!(
+        // A mistake the parser can step over: report it, skip the law, keep the junction.
+        recovered.push(input.error(format!(
             "a {} has no constitutive law: write `{} {};`",
             kind.describe(),
             kind.word(),
             name
         )));
+        let _ = input.step(|cursor| {
+            let mut rest = *cursor;
+            while let Some((tt, next)) = rest.token_tree() {
+                if matches!(&tt, proc_macro2::TokenTree::Punct(p) if p.as_char() == ';') {
+                    break;
+                }
+                rest = next;
+            }
+            Ok(((), rest))
+        });
     }
     Ok(ElementDecl {
         kind,
@@ -386,17 +443,20 @@ fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
     } else if input.peek(syn::token::Brace) {
         let body;
         braced!(body in input);
-        let mut forms = Vec::new();
-        while !body.is_empty() {
-            let var: Ident = body.parse()?;
-            body.parse::<Token![=]>()?;
-            let expr: Expr = body.parse()?;
-            forms.push(LawForm { var, expr });
-            if body.is_empty() {
-                break;
+        let forms = parse_group(&body, |body| {
+            let mut forms = Vec::new();
+            while !body.is_empty() {
+                let var: Ident = body.parse()?;
+                body.parse::<Token![=]>()?;
+                let expr: Expr = body.parse()?;
+                forms.push(LawForm { var, expr });
+                if body.is_empty() {
+                    break;
+                }
+                body.parse::<Token![,]>()?;
             }
-            body.parse::<Token![,]>()?;
-        }
+            Ok(forms)
+        })?;
         if forms.is_empty() {
             return Err(syn::Error::new(
                 name.span(),
@@ -429,10 +489,15 @@ impl Parse for BondChain {
                 let dash: Token![-] = input.parse()?;
                 let inner;
                 bracketed!(inner in input);
-                let label: Ident = inner.parse()?;
-                if !inner.is_empty() {
-                    return Err(inner.error("expected `]`: a bond label is one name, `-[b1]->`"));
-                }
+                let label: Ident = parse_group(&inner, |inner| {
+                    let label: Ident = inner.parse()?;
+                    if !inner.is_empty() {
+                        return Err(
+                            inner.error("expected `]`: a bond label is one name, `-[b1]->`")
+                        );
+                    }
+                    Ok(label)
+                })?;
                 input.parse::<Token![->]>()?;
                 links.push((
                     Arrow {
@@ -441,10 +506,16 @@ impl Parse for BondChain {
                     },
                     input.parse()?,
                 ));
-            } else if links.is_empty() || !input.peek(Token![;]) {
-                return Err(lookahead.error());
-            } else {
+            } else if !links.is_empty() && lookahead.peek(Token![;]) {
                 break;
+            } else if input.peek(Token![<-]) {
+                return Err(input.error(
+                    "bonds point the way power flows, left to right: write `b -> a` instead of `a <- b`",
+                ));
+            } else if input.peek(Token![=>]) {
+                return Err(input.error("a bond's half arrow is written `->`, not `=>`"));
+            } else {
+                return Err(lookahead.error());
             }
         }
         Ok(BondChain { first, links })
@@ -459,7 +530,7 @@ impl Parse for Endpoint {
         } else if lookahead.peek(syn::token::Brace) {
             let body;
             let brace = braced!(body in input);
-            let names = body.parse_terminated(Ident::parse, Token![,])?;
+            let names = parse_group(&body, |body| body.parse_terminated(Ident::parse, Token![,]))?;
             if names.is_empty() {
                 return Err(syn::Error::new(
                     brace.span.join(),
@@ -542,11 +613,36 @@ mod should {
         assert!(messages[0].starts_with("unknown element kind `Q`"));
         assert!(messages[1].starts_with("unknown element kind `2`"));
         assert!(messages[2].starts_with("expected"));
+        // Names the failed declarations meant, so references to them stay quiet.
+        let poisoned: Vec<String> = model.poisoned.iter().map(|n| n.to_string()).collect();
+        assert_eq!(poisoned, ["x", "j"]);
     }
 
     #[test]
-    fn reject_a_law_on_a_junction() {
+    fn keep_other_errors_when_a_braced_law_is_malformed() {
+        let file =
+            parse("model M { C spring { e = 100.0 * q g }; Q x = 1.0; a -[b1 b2]-> c; }").unwrap();
+        let messages: Vec<String> = file.models[0]
+            .errors
+            .iter()
+            .map(|e| e.to_string())
+            .collect();
+        assert_eq!(messages.len(), 3, "{messages:?}");
+        assert!(messages[1].starts_with("unknown element kind `Q`"));
+        assert!(messages[2].starts_with("expected `]`: a bond label is one name"));
+    }
+
+    #[test]
+    fn list_each_expected_token_once() {
+        let file = parse("model M { * x; }").unwrap();
+        let message = file.models[0].errors[0].to_string();
+        assert_eq!(message.matches("identifier").count(), 1, "{message}");
+    }
+
+    #[test]
+    fn reject_a_law_on_a_junction_but_keep_the_junction() {
         let file = parse("model M { 1 v = 3.0; }").unwrap();
+        assert_eq!(file.models[0].stmts.len(), 1);
         assert!(file.models[0].errors[0]
             .to_string()
             .contains("has no constitutive law"));

@@ -529,18 +529,33 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
     let span = |id: ElementId| graph.element(id).name.span();
     match error {
         CausalityError::Conflict { second, first, at } => {
-            let place = at.map_or(String::new(), |j| format!(" at {}", name(j)));
-            let what = match graph.element(*second).kind {
-                ElementKind::Se => "effort",
-                ElementKind::Sf => "flow",
-                _ => "causality",
+            // Where the two meet: the junction named by propagation, else the element
+            // at the other end of the second one's bond.
+            let meeting = at.or_else(|| {
+                let element = graph.element(*second);
+                element.bonds.first().map(|&b| graph.bond(b).other(*second))
+            });
+            let place = meeting.map_or(String::new(), |j| format!(" at {}", name(j)));
+            let (what, mend) = match graph.element(*second).kind {
+                ElementKind::Se => (
+                    "effort",
+                    "two efforts imposed on one 0-junction (or through a 1-junction loop) cannot both hold: \
+                     remove one, or put a resistance (R) or an inertia (I) in series with one of them",
+                ),
+                ElementKind::Sf => (
+                    "flow",
+                    "two flows imposed on one 1-junction cannot both hold: remove one, or put a \
+                     compliance (C) or a resistance (R) between them (on a 0-junction)",
+                ),
+                _ => (
+                    "causality",
+                    "the junction structure fixes this variable twice: check the bonds around it",
+                ),
             };
             let mut e = syn::Error::new(
                 span(*second),
                 format!(
-                    "causal conflict{place}: {} cannot impose its {what}, because {} already fixes it; \
-                     two sources (or a source and a storage element) cannot fix the same variable: \
-                     remove one, or put an element that can absorb the difference (C, I or R) between them",
+                    "causal conflict{place}: {} cannot impose its {what}, because {} already fixes it; {mend}",
                     name(*second),
                     name(*first)
                 ),
@@ -552,8 +567,9 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             let forced_by = path.first().copied().unwrap_or(*element);
             let route: Vec<String> = path.iter().map(|&id| graph.element(id).name.to_string()).collect();
             let kind = graph.element(*element).kind;
-            let mend = match (kind, graph.element(forced_by).kind) {
-                (ElementKind::I, ElementKind::I) => "the two inertias are rigidly tied; put a compliance (a C, with an R for damping) between them, as the paper does with its compliant joints, or merge them into one I",
+            let forcer_kind = graph.element(forced_by).kind;
+            let mend = match (kind, forcer_kind) {
+                (ElementKind::I, ElementKind::I) => "the two inertias are rigidly tied; put a compliance (a C, with an R for damping) between them, as mechanism models do with compliant joints, or merge them into one I",
                 (ElementKind::C, ElementKind::C) => "the two compliances share one variable; put a resistance (R) or an inertia (I) between them, or merge them into one C",
                 (ElementKind::I, _) => "its flow is fixed from outside; put a compliance (C, with an R for damping) between it and what fixes it",
                 _ => "its effort is fixed from outside; put a resistance (R) or an inertia (I) between it and what fixes it",
@@ -568,7 +584,12 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                 ),
             );
             if forced_by != *element {
-                e.combine(syn::Error::new(span(forced_by), format!("note: {} takes integral causality here first", name(forced_by))));
+                let note = match forcer_kind {
+                    ElementKind::Se => format!("note: {} fixes the effort here", name(forced_by)),
+                    ElementKind::Sf => format!("note: {} fixes the flow here", name(forced_by)),
+                    _ => format!("note: {} takes integral causality here first", name(forced_by)),
+                };
+                e.combine(syn::Error::new(span(forced_by), note));
             }
             e
         }
