@@ -560,6 +560,15 @@ mod should {
     }
 
     #[test]
+    fn let_locals_in_a_law_shadow_elements_and_own_variables() {
+        let m = messages(
+            "model M { Sf src = 1.0; C spring = 1.0; src -> spring;
+                       output y = { let spring = 2.0; let q = 3.0; spring * q * t }; }",
+        );
+        assert!(m.is_empty(), "{m:?}");
+    }
+
+    #[test]
     fn reject_a_law_in_the_wrong_variable() {
         let m = messages("model M { C c { f = q }; Se s = 1.0; s -> c; }");
         assert_eq!(m, ["unexpected `f = ...`: a C element's law gives its effort from its displacement: `e = ...q...`"]);

@@ -7,6 +7,8 @@
 //! converted where it is an operand of an arithmetic or comparison operator (`2 * q`),
 //! and left alone elsewhere (`q.powi(3)`).
 
+use std::collections::BTreeSet;
+
 use proc_macro2::Span;
 use quote::quote_spanned;
 use syn::spanned::Spanned;
@@ -38,6 +40,7 @@ pub fn rewrite(expr: &Expr, scope: &Scope, errors: &mut crate::errors::Errors) -
         scope,
         errors,
         deps: Vec::new(),
+        locals: local_names(expr),
     };
     let mut expr = expr.clone();
     rewriter.visit_expr_mut(&mut expr);
@@ -135,6 +138,7 @@ pub fn lint(
         own,
         context,
         errors,
+        locals: local_names(expr),
     };
     syn::visit::Visit::visit_expr(&mut linter, expr);
 }
@@ -144,6 +148,33 @@ struct Linter<'a> {
     own: &'a [&'a str],
     context: &'a str,
     errors: &'a mut crate::errors::Errors,
+    locals: BTreeSet<String>,
+}
+
+impl Linter<'_> {
+    fn lookup(&self, name: &Ident) -> Option<Named> {
+        if self.locals.contains(&name.to_string()) {
+            return None;
+        }
+        (self.lookup)(name)
+    }
+}
+
+/// Names the expression binds itself (`let` patterns, closure parameters, match and
+/// `if let` bindings). They shadow elements, parameters and own variables, as in Rust;
+/// scoping is taken as the whole expression, which only errs towards leaving a name to
+/// rustc to resolve.
+fn local_names(expr: &Expr) -> BTreeSet<String> {
+    struct Collector(BTreeSet<String>);
+    impl<'ast> syn::visit::Visit<'ast> for Collector {
+        fn visit_pat_ident(&mut self, pat: &'ast syn::PatIdent) {
+            self.0.insert(pat.ident.to_string());
+            syn::visit::visit_pat_ident(self, pat);
+        }
+    }
+    let mut collector = Collector(BTreeSet::new());
+    syn::visit::Visit::visit_expr(&mut collector, expr);
+    collector.0
 }
 
 impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
@@ -153,7 +184,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                 if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member)
                 {
                     let word = member.to_string();
-                    match (self.lookup)(base) {
+                    match self.lookup(base) {
                         Some(Named::Element(kind, described)) => {
                             if !has_signal(kind, &word) {
                                 self.errors
@@ -180,7 +211,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
             Expr::Path(_) => {
                 let Some(name) = as_ident(expr) else { return };
                 let word = name.to_string();
-                match (self.lookup)(name) {
+                match self.lookup(name) {
                     Some(Named::Element(_, described)) => self.errors.at(
                         name.span(),
                         format!("{described} is an element, not a value: read one of its signals, e.g. `{name}.e`"),
@@ -189,7 +220,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                         name.span(),
                         format!("bond `{name}` is not a value: read `{name}.e` or `{name}.f`"),
                     ),
-                    None if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.own.contains(&word.as_str()) => {
+                    None if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.own.contains(&word.as_str()) && !self.locals.contains(&word) => {
                         let own = if self.own.is_empty() {
                             "none: refer to signals by element, e.g. `spring.q`".to_string()
                         } else {
@@ -229,10 +260,14 @@ struct Rewriter<'s, 'e> {
     scope: &'s Scope<'s>,
     errors: &'e mut crate::errors::Errors,
     deps: Vec<Signal>,
+    locals: BTreeSet<String>,
 }
 
 impl Rewriter<'_, '_> {
     fn lookup(&self, name: &Ident) -> Option<Lookup> {
+        if self.locals.contains(&name.to_string()) {
+            return None;
+        }
         let graph = self.scope.graph;
         if let Some(id) = graph
             .element_ids()
