@@ -5,6 +5,7 @@
 use core::fmt;
 use std::io;
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// Why a simulation could not be set up or could not reach its last sample time.
 ///
@@ -87,6 +88,48 @@ pub enum SolverError {
         name: String,
         /// The names that exist.
         valid: &'static [&'static str],
+    },
+    /// The Newton iteration of an implicit method kept failing (diverging, or
+    /// converging too slowly to finish within its iteration limit), each failure
+    /// halving the step or more, until the step size fell below the resolution of the
+    /// time axis.
+    NewtonDiverged {
+        /// The time reached.
+        t: f64,
+        /// The step size of the last attempt.
+        h: f64,
+        /// The Newton iterations of the last attempt.
+        iterations: usize,
+    },
+    /// The iteration matrix of an implicit method (a multiple of the identity minus the
+    /// Jacobian) was singular to working precision for five step sizes in a row, or
+    /// still singular when the step size could shrink no further.
+    SingularMatrix {
+        /// The time reached.
+        t: f64,
+        /// The step size of the last attempt.
+        h: f64,
+    },
+    /// An entry of the Jacobian ∂(dx/dt)/∂x was NaN or infinite.
+    NonFiniteJacobian {
+        /// The time at which the Jacobian was evaluated.
+        t: f64,
+        /// The state whose derivative was differentiated (the row).
+        state: &'static str,
+        /// The state it was differentiated with respect to (the column).
+        wrt: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// The run took longer than its wall-time limit (`max_wall_time`).
+    WallTimeExceeded {
+        /// The time reached.
+        t: f64,
+        /// The wall time used when the limit was noticed (checked before every step
+        /// attempt).
+        elapsed: Duration,
+        /// The limit.
+        limit: Duration,
     },
 }
 
@@ -220,6 +263,46 @@ impl fmt::Display for SolverError {
                 }
                 Ok(())
             }
+            SolverError::NewtonDiverged { t, h, iterations } => write!(
+                f,
+                "at t = {}, the Newton iteration of the implicit method failed to converge \
+                 (last attempt: {iterations} iterations) even as the step size shrank to {}, \
+                 below the resolution of the time axis: the solution may have a singularity \
+                 there, or the model's equations may be discontinuous or not differentiable",
+                Num(*t),
+                Num(*h)
+            ),
+            SolverError::SingularMatrix { t, h } => write!(
+                f,
+                "at t = {}, the iteration matrix of the implicit method (step size {}) was \
+                 singular to working precision five times in a row: the model's Jacobian \
+                 is degenerate there (entries so large that the step size does not \
+                 register next to them, or parameters out of range)",
+                Num(*t),
+                Num(*h)
+            ),
+            SolverError::NonFiniteJacobian {
+                t,
+                state,
+                wrt,
+                value,
+            } => write!(
+                f,
+                "at t = {}, the derivative of state `{state}`'s rate with respect to state \
+                 `{wrt}` evaluated to {}: the model's equations are not differentiable \
+                 there (e.g. sqrt, cbrt or powf at 0)",
+                Num(*t),
+                Num(*value)
+            ),
+            SolverError::WallTimeExceeded { t, elapsed, limit } => write!(
+                f,
+                "at t = {}, the run had taken {:.3} s, more than its wall-time limit of \
+                 {:.3} s: raise `max_wall_time` or loosen the tolerances; if the steps \
+                 are tiny, the model may be less smooth than it should be",
+                Num(*t),
+                elapsed.as_secs_f64(),
+                limit.as_secs_f64()
+            ),
         }
     }
 }

@@ -9,21 +9,27 @@
 // Generated code names this crate `::bgdsl_runtime`; this makes that work inside it too.
 extern crate self as bgdsl_runtime;
 
+pub mod dual;
 pub mod error;
 pub mod graph;
+pub mod jacobian;
+mod linalg;
 pub mod model;
 pub mod record;
 pub mod scalar;
 pub mod solver;
 
 pub use bgdsl_macros::bond_graph;
+pub use dual::Dual;
 pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
+pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
 pub use model::Model;
 pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;
 pub use solver::{
-    sample_times_uniform, simulate, DormandPrinceOptions, FixedStep, Simulation, Solver, Stats,
+    sample_times_uniform, simulate, DormandPrinceOptions, FixedStep, Radau5Options, Rodas4Options,
+    Simulation, Solver, Stats,
 };
 
 /// The README's examples, compiled and run as doctests so they cannot rot.

@@ -1,8 +1,11 @@
 //! The driver: owns the workspace, the sampling loop, step-size control and the
-//! statistics. The methods themselves live in [`super::explicit`].
+//! statistics. The explicit methods live in [`super::explicit`]; the stiff ones in
+//! [`super::stiff`], whose own loop (Newton-aware step-size control, Jacobian and LU
+//! reuse) the driver calls one accepted step at a time.
 
 use super::explicit::{check_state, ExplicitRk, NonFinite};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
+use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
 use crate::model::Model;
@@ -14,10 +17,22 @@ use crate::record::{Recorder, Trajectory};
 pub struct Stats {
     /// Steps accepted.
     pub accepted: usize,
-    /// Steps rejected (error estimate too large, or a non-finite value met).
+    /// Steps rejected: error estimate too large, a non-finite value met, or (stiff
+    /// methods) a Newton iteration that failed or a singular iteration matrix.
     pub rejected: usize,
-    /// Evaluations of [`Model::derivatives`].
+    /// Evaluations of [`Model::derivatives`] on `f64`, by the method itself (the
+    /// evaluations for Jacobians are counted in [`Stats::n_jac_rhs`]).
     pub n_rhs: usize,
+    /// Jacobians evaluated (stiff methods; 0 for the explicit ones).
+    pub n_jac: usize,
+    /// LU factorizations of iteration matrices (stiff methods). Radau5 factors two
+    /// matrices each time, one real and one complex (about four times the work of the
+    /// real one): both are counted. Rodas4 factors one per attempted step.
+    pub n_lu: usize,
+    /// Evaluations of [`Model::derivatives`] spent on Jacobians: one dual-number
+    /// evaluation per colour of the sparsity pattern (none for a hand-written
+    /// [`Model::jacobian`]), plus, for Rodas4, one `f64` evaluation for `∂f/∂t`.
+    pub n_jac_rhs: usize,
 }
 
 impl Stats {
@@ -63,7 +78,7 @@ impl Stats {
 pub struct Simulation<'m, M: Model> {
     model: &'m M,
     solver: Solver,
-    kernel: ExplicitRk,
+    kernel: Kernel,
     /// The current state.
     x: Vec<f64>,
     /// The current time.
@@ -84,6 +99,39 @@ impl<M: Model> core::fmt::Debug for Simulation<'_, M> {
             .field("x", &self.x)
             .field("stats", &self.stats)
             .finish_non_exhaustive()
+    }
+}
+
+/// The method's workspace. One per simulation, so the variants' sizes do not matter.
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)]
+enum Kernel {
+    Explicit(ExplicitRk),
+    Stiff(StiffKernel),
+}
+
+impl Kernel {
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        match self {
+            Kernel::Explicit(k) => k.interpolate(t, out),
+            Kernel::Stiff(k) => k.interpolate(t, out),
+        }
+    }
+}
+
+/// The explicit kernel (the solver is an explicit one).
+fn explicit(kernel: &mut Kernel) -> &mut ExplicitRk {
+    match kernel {
+        Kernel::Explicit(k) => k,
+        Kernel::Stiff(_) => unreachable!("an explicit solver has an explicit kernel"),
+    }
+}
+
+/// The stiff kernel (the solver is a stiff one).
+fn stiff(kernel: &mut Kernel) -> &mut StiffKernel {
+    match kernel {
+        Kernel::Stiff(k) => k,
+        Kernel::Explicit(_) => unreachable!("a stiff solver has a stiff kernel"),
     }
 }
 
@@ -150,7 +198,7 @@ pub fn sample_times_uniform(t0: f64, t_end: f64, n: usize) -> Vec<f64> {
 }
 
 /// The smallest step the time axis resolves at `t`.
-fn min_step(t: f64) -> f64 {
+pub(super) fn min_step(t: f64) -> f64 {
     16.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE)
 }
 
@@ -158,15 +206,27 @@ impl<'m, M: Model> Simulation<'m, M> {
     /// Checks the solver's options and allocates the workspace for `model`.
     pub fn new(model: &'m M, solver: Solver) -> Result<Self, SolverError> {
         solver.validate()?;
-        let tableau = match solver {
-            Solver::Rk4(_) => &RK4,
-            Solver::DormandPrince(_) | Solver::DormandPrinceFixed(_) => &DORMAND_PRINCE_5,
-        };
         let n = M::N_STATES;
+        let kernel = match solver {
+            Solver::Rk4(_) => Kernel::Explicit(ExplicitRk::new(&RK4, n)),
+            Solver::DormandPrince(_) | Solver::DormandPrinceFixed(_) => {
+                Kernel::Explicit(ExplicitRk::new(&DORMAND_PRINCE_5, n))
+            }
+            Solver::Radau5(o) => {
+                let method = |band| Radau5::new(n, band, &o);
+                let integrator = StiffIntegrator::new(model, method, o.common());
+                Kernel::Stiff(StiffKernel::Radau5(Box::new(integrator)))
+            }
+            Solver::Rodas4(o) => {
+                let method = |band| Rosenbrock::new(&RODAS4, n, band, o.rtol, o.atol, o.safety);
+                let integrator = StiffIntegrator::new(model, method, o.common());
+                Kernel::Stiff(StiffKernel::Rosenbrock(Box::new(integrator)))
+            }
+        };
         Ok(Simulation {
             model,
             solver,
-            kernel: ExplicitRk::new(tableau, n),
+            kernel,
             x: vec![0.0; n],
             t: 0.0,
             x_dense: vec![0.0; n],
@@ -252,12 +312,15 @@ impl<'m, M: Model> Simulation<'m, M> {
         self.t = t0;
         self.x.copy_from_slice(x0);
         check_state(&self.x, t0).map_err(non_finite::<M>)?;
-        self.kernel.restart();
+        if let Kernel::Explicit(k) = &mut self.kernel {
+            k.restart();
+        }
         match self.solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
                 self.run_fixed(o, samples, recorder)?
             }
             Solver::DormandPrince(o) => self.run_adaptive(&o, samples, recorder)?,
+            Solver::Radau5(_) | Solver::Rodas4(_) => self.run_stiff(samples, recorder)?,
         }
         Ok(self.stats)
     }
@@ -303,14 +366,12 @@ impl<'m, M: Model> Simulation<'m, M> {
                 };
                 let t = self.t;
                 let stats = &mut self.stats;
-                self.kernel
+                let kernel = explicit(&mut self.kernel);
+                kernel
                     .prepare(self.model, t, &self.x, &mut stats.n_rhs)
-                    .and_then(|()| {
-                        self.kernel
-                            .attempt(self.model, t, t_new, &self.x, &mut stats.n_rhs)
-                    })
+                    .and_then(|()| kernel.attempt(self.model, t, t_new, &self.x, &mut stats.n_rhs))
                     .map_err(non_finite::<M>)?;
-                self.kernel.accept(t, t_new, &mut self.x, false);
+                kernel.accept(t, t_new, &mut self.x, false);
                 self.t = t_new;
                 stats.accepted += 1;
                 if on_grid {
@@ -342,13 +403,12 @@ impl<'m, M: Model> Simulation<'m, M> {
         let t_end = samples.get(n - 1);
         let model = self.model;
         let (rtol, atol) = (o.rtol, o.atol);
-        self.kernel
+        explicit(&mut self.kernel)
             .prepare(model, self.t, &self.x, &mut self.stats.n_rhs)
             .map_err(non_finite::<M>)?;
         let mut h = match o.initial_step {
             Some(h) => h.min(o.max_step),
-            None => self
-                .kernel
+            None => explicit(&mut self.kernel)
                 .initial_step(
                     model,
                     self.t,
@@ -384,9 +444,8 @@ impl<'m, M: Model> Simulation<'m, M> {
                     steps: self.stats.steps(),
                 });
             }
-            if let Err(nf) = self
-                .kernel
-                .attempt(model, t, t_new, &self.x, &mut self.stats.n_rhs)
+            if let Err(nf) =
+                explicit(&mut self.kernel).attempt(model, t, t_new, &self.x, &mut self.stats.n_rhs)
             {
                 // Probably a step out of the model's domain: retry a shorter one.
                 self.stats.rejected += 1;
@@ -395,11 +454,12 @@ impl<'m, M: Model> Simulation<'m, M> {
                 continue;
             }
             failure = None;
-            let err = self.kernel.error_norm(&self.x, h_try, rtol, atol);
+            let kernel = explicit(&mut self.kernel);
+            let err = kernel.error_norm(&self.x, h_try, rtol, atol);
             if err <= 1.0 {
                 self.stats.accepted += 1;
                 let dense = samples.get(next) < t_new;
-                self.kernel.accept(t, t_new, &mut self.x, dense);
+                kernel.accept(t, t_new, &mut self.x, dense);
                 self.t = t_new;
                 while next < n && samples.get(next) <= t_new {
                     let ts = samples.get(next);
@@ -413,6 +473,46 @@ impl<'m, M: Model> Simulation<'m, M> {
             } else {
                 self.stats.rejected += 1;
                 h = control.after_reject(h_try, err);
+            }
+        }
+    }
+
+    /// Steps of a stiff method, each one accepted step of its own loop (which owns the
+    /// step-size control); samples inside a step come from the method's continuous
+    /// extension, and the last step ends on the last sample.
+    fn run_stiff<R: Recorder + ?Sized>(
+        &mut self,
+        samples: Samples<'_>,
+        recorder: &mut R,
+    ) -> Result<(), SolverError> {
+        let n = samples.len();
+        let mut next = 0;
+        while next < n && samples.get(next) <= self.t {
+            self.emit(samples.get(next), false, recorder);
+            next += 1;
+        }
+        if next == n {
+            return Ok(());
+        }
+        let t_end = samples.get(n - 1);
+        let model = self.model;
+        stiff(&mut self.kernel).start(model, self.t, &self.x, t_end, &mut self.stats)?;
+        loop {
+            stiff(&mut self.kernel).step(
+                model,
+                &mut self.t,
+                &mut self.x,
+                t_end,
+                &mut self.stats,
+            )?;
+            let t_new = self.t;
+            while next < n && samples.get(next) <= t_new {
+                let ts = samples.get(next);
+                self.emit(ts, ts < t_new, recorder);
+                next += 1;
+            }
+            if next == n {
+                return Ok(());
             }
         }
     }
@@ -488,7 +588,7 @@ impl Controller {
 }
 
 /// Names the state of a kernel's non-finite value.
-fn non_finite<M: Model>(nf: NonFinite) -> SolverError {
+pub(super) fn non_finite<M: Model>(nf: NonFinite) -> SolverError {
     SolverError::NonFiniteState {
         t: nf.t,
         state: M::STATE_NAMES.get(nf.index).copied().unwrap_or("?"),

@@ -2,6 +2,7 @@
 
 use core::str::FromStr;
 
+use super::stiff::{Radau5Options, Rodas4Options};
 use crate::error::SolverError;
 
 /// An integration method and its settings.
@@ -19,10 +20,11 @@ use crate::error::SolverError;
 /// assert_eq!(by_name, Solver::default());
 /// assert_eq!(fixed.name(), "rk4");
 /// assert_eq!(adaptive.name(), "dopri5");
+/// // For stiff models (compliant joints, fast chemistry, electrical parasitics):
+/// assert_eq!(Solver::stiff(), "radau5".parse().unwrap());
 /// ```
 ///
-/// More methods (an implicit one for stiff models) will be added as further variants,
-/// hence `#[non_exhaustive]`.
+/// More methods may be added as further variants, hence `#[non_exhaustive]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Solver {
@@ -37,11 +39,26 @@ pub enum Solver {
     /// sampled like [`Solver::Rk4`]. Meant for convergence studies and for comparing
     /// against a fixed grid.
     DormandPrinceFixed(FixedStep),
+    /// The three-stage Radau IIA method of order 5 for stiff models, after Hairer &
+    /// Wanner's RADAU5: implicit, L-stable and stiffly accurate, solved by simplified
+    /// Newton iterations with the exact Jacobian (automatic differentiation, compressed
+    /// by the model's sparsity pattern), which it reuses across steps while the
+    /// iteration converges fast. Samples between steps come from its collocation
+    /// polynomial (order 3). The recommended method for stiff models; see
+    /// [`Solver::stiff`].
+    Radau5(Radau5Options),
+    /// The Rosenbrock method Rodas4 for stiff models (Hairer & Wanner's RODAS): order 4,
+    /// L-stable and stiffly accurate, linearly implicit (one Jacobian per step and one
+    /// LU per attempt, no Newton iteration). Samples between steps come from its
+    /// continuous extension (order 3). Cheaper per step than Radau5; competitive at
+    /// loose tolerances.
+    Rodas4(Rodas4Options),
 }
 
 impl Solver {
     /// The names [`Solver::from_name`] accepts, in the order of the variants.
-    pub const NAMES: &'static [&'static str] = &["rk4", "dopri5", "dopri5-fixed"];
+    pub const NAMES: &'static [&'static str] =
+        &["rk4", "dopri5", "dopri5-fixed", "radau5", "rodas4"];
 
     /// Classical RK4 with step `step` and the default step budget.
     pub fn rk4(step: f64) -> Self {
@@ -53,6 +70,12 @@ impl Solver {
         Solver::DormandPrince(DormandPrinceOptions::default())
     }
 
+    /// Radau IIA of order 5 with the default options: the recommended method for stiff
+    /// models.
+    pub fn stiff() -> Self {
+        Solver::Radau5(Radau5Options::default())
+    }
+
     /// The solver called `name` (one of [`Solver::NAMES`], ASCII case ignored) with its
     /// default settings; the fixed-step methods get [`FixedStep::DEFAULT_STEP`].
     pub fn from_name(name: &str) -> Result<Self, SolverError> {
@@ -61,6 +84,8 @@ impl Solver {
             "rk4" => Ok(Solver::Rk4(FixedStep::default())),
             "dopri5" => Ok(Solver::dopri5()),
             "dopri5-fixed" => Ok(Solver::DormandPrinceFixed(FixedStep::default())),
+            "radau5" => Ok(Solver::Radau5(Radau5Options::default())),
+            "rodas4" => Ok(Solver::Rodas4(Rodas4Options::default())),
             _ => Err(SolverError::UnknownSolver {
                 name: name.to_owned(),
                 valid: Self::NAMES,
@@ -74,6 +99,8 @@ impl Solver {
             Solver::Rk4(_) => "rk4",
             Solver::DormandPrince(_) => "dopri5",
             Solver::DormandPrinceFixed(_) => "dopri5-fixed",
+            Solver::Radau5(_) => "radau5",
+            Solver::Rodas4(_) => "rodas4",
         }
     }
 
@@ -83,6 +110,8 @@ impl Solver {
         match self {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.max_steps,
             Solver::DormandPrince(o) => o.max_steps,
+            Solver::Radau5(o) => o.max_steps,
+            Solver::Rodas4(o) => o.max_steps,
         }
     }
 
@@ -92,6 +121,8 @@ impl Solver {
         match self {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.validate(),
             Solver::DormandPrince(o) => o.validate(),
+            Solver::Radau5(o) => o.validate(),
+            Solver::Rodas4(o) => o.validate(),
         }
     }
 }
@@ -274,7 +305,7 @@ impl DormandPrinceOptions {
     }
 }
 
-fn check(
+pub(super) fn check(
     option: &'static str,
     value: f64,
     ok: bool,
@@ -291,7 +322,7 @@ fn check(
     }
 }
 
-fn check_budget(max_steps: usize) -> Result<(), SolverError> {
+pub(super) fn check_budget(max_steps: usize) -> Result<(), SolverError> {
     check(
         "max_steps",
         max_steps as f64,
@@ -317,7 +348,7 @@ mod tests {
         let err = Solver::from_name("euler").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "unknown solver `euler`; the solvers are: rk4, dopri5, dopri5-fixed"
+            "unknown solver `euler`; the solvers are: rk4, dopri5, dopri5-fixed, radau5, rodas4"
         );
     }
 

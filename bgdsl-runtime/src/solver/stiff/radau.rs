@@ -1,0 +1,513 @@
+//! The three-stage Radau IIA method of order 5 as in Hairer & Wanner's RADAU5
+//! (*Solving ODEs II*, 2nd ed., Sect. IV.8).
+//!
+//! **Stages.** With `Z = (z_1, z_2, z_3)`, `z_i = Y_i - x`, the stage equations
+//! `Z = h (A ⊗ I) F(Z)` are solved by simplified Newton iterations with the Jacobian `J`
+//! at the start of a step (or of an earlier one). The Radau IIA matrix `A` has one real
+//! eigenvalue and a complex pair: `T^-1 A^-1 T = [[γ, 0, 0], [0, α, -β], [0, β, α]]`, so
+//! in the variables `W = (T^-1 ⊗ I) Z` one Newton step is one real solve with
+//! `E1 = (γ / h) I - J` and one complex solve with `E2 = ((α + iβ) / h) I - J`, of size
+//! `n` each (HW II, eqs. (8.15)–(8.18)).
+//!
+//! **Newton control** (HW II, Sect. IV.8, "Stopping criterion"): the contraction rate
+//! `θ_k = ||ΔW_k|| / ||ΔW_{k-1}||` is watched; the iteration stops when
+//! `θ / (1 - θ) ||ΔW|| <= κ tol`, and gives up (the step is retried shorter) when `θ`
+//! reaches 0.99 or when the rate predicts that the iteration cannot converge within the
+//! iteration limit.
+//!
+//! **Starting values** come from extrapolating the collocation polynomial of the last
+//! accepted step; **error estimate** is HW II eq. (8.20), with the filter
+//! `(I - h γ0 J)^-1` (and a second filtered evaluation on the first step and after a
+//! rejection); the **continuous extension** is the collocation polynomial itself, of
+//! degree 3, through `x` and the three stage values.
+//!
+//! The constants are those of the method (`c`, the eigenvalues, the error weights in
+//! closed form); the transformation `T` and its inverse are the published values of
+//! RADAU5, checked in this module's tests against `A^-1` computed from the Butcher
+//! tableau.
+
+use super::{eval, rms, Attempt, ImplicitMethod, Radau5Options, StepStart};
+use crate::linalg::{Band, ComplexLu, Lu, Singular};
+use crate::model::Model;
+
+/// The transformation `T` (row-major) with `T^-1 A^-1 T` block diagonal. The published
+/// digits are kept as printed.
+#[allow(clippy::excessive_precision)]
+const T: [[f64; 3]; 3] = [
+    [
+        9.123_239_487_089_294_279e-2,
+        -1.412_552_950_209_542_084e-1,
+        -3.002_919_410_514_742_449e-2,
+    ],
+    [
+        2.417_179_327_071_070_190e-1,
+        2.041_293_522_937_999_320e-1,
+        3.829_421_127_572_619_378e-1,
+    ],
+    [9.660_481_826_150_929_362e-1, 1.0, 0.0],
+];
+
+/// `T^-1`.
+#[allow(clippy::excessive_precision)]
+const TI: [[f64; 3]; 3] = [
+    [
+        4.325_579_890_063_155_351,
+        3.391_992_518_158_098_695e-1,
+        5.417_705_399_358_748_712e-1,
+    ],
+    [
+        -4.178_718_591_551_904_727,
+        -3.276_828_207_610_623_871e-1,
+        4.766_235_545_005_504_520e-1,
+    ],
+    [
+        -5.028_726_349_457_868_760e-1,
+        2.571_926_949_855_605_429,
+        -5.960_392_048_282_249_250e-1,
+    ],
+];
+
+/// The method's scalar constants, in closed form.
+#[derive(Clone, Copy, Debug)]
+struct Constants {
+    /// Nodes `c_1, c_2` (`c_3 = 1`).
+    c1: f64,
+    c2: f64,
+    /// The real eigenvalue `γ` of `A^-1` and the complex pair `α ± iβ`.
+    gamma: f64,
+    alpha: f64,
+    beta: f64,
+    /// Error-estimate weights `e_i / γ0` of HW II eq. (8.20), as in RADAU5.
+    dd: [f64; 3],
+}
+
+impl Constants {
+    fn new() -> Self {
+        let sq6 = 6f64.sqrt();
+        let (cbrt81, cbrt9) = (81f64.cbrt(), 9f64.cbrt());
+        // Eigenvalues of A: 1/γ and (α' ± iβ').
+        let gamma_a = (6.0 + cbrt81 - cbrt9) / 30.0;
+        let alpha_a = (12.0 - cbrt81 + cbrt9) / 60.0;
+        let beta_a = (cbrt81 + cbrt9) * 3f64.sqrt() / 60.0;
+        let modulus = alpha_a * alpha_a + beta_a * beta_a;
+        Constants {
+            c1: (4.0 - sq6) / 10.0,
+            c2: (4.0 + sq6) / 10.0,
+            gamma: 1.0 / gamma_a,
+            alpha: alpha_a / modulus,
+            beta: beta_a / modulus,
+            dd: [
+                -(13.0 + 7.0 * sq6) / 3.0,
+                (-13.0 + 7.0 * sq6) / 3.0,
+                -1.0 / 3.0,
+            ],
+        }
+    }
+}
+
+/// Workspace and state of Radau IIA (5). Allocated by [`Radau5::new`]; nothing else
+/// allocates.
+#[derive(Debug)]
+pub(crate) struct Radau5 {
+    k: Constants,
+    /// Transformed tolerances (see [`Radau5Options`]).
+    rtol: f64,
+    atol: f64,
+    max_iterations: usize,
+    newton_tol: f64,
+    /// The step-size controller's safety factor.
+    safety: f64,
+    reuse_below: f64,
+    /// `E1 = (γ/h) I - J` and `E2 = ((α + iβ)/h) I - J`, factored.
+    e1: Lu,
+    e2: ComplexLu,
+    /// `fac1 = γ/h`, `alphn = α/h`, `betan = β/h` of the factored matrices.
+    fac1: f64,
+    alphn: f64,
+    betan: f64,
+    /// Stage increments `Z` and their transforms `W = T^-1 Z`.
+    z: [Vec<f64>; 3],
+    w: [Vec<f64>; 3],
+    /// Stage derivatives, then Newton corrections `ΔW`.
+    r: [Vec<f64>; 3],
+    /// Scratch: a stage argument; error-estimate vectors.
+    stage: Vec<f64>,
+    err_rhs: Vec<f64>,
+    err_v: Vec<f64>,
+    /// Error weights `atol' + rtol' |x_i|` of the current step.
+    scale: Vec<f64>,
+    x_new: Vec<f64>,
+    /// Newton-form coefficients of the last accepted step's collocation polynomial
+    /// `u(s) = x_new + s (d1 + (s - c2 + 1) (d2 + (s - c1 + 1) d3))`,
+    /// `s = (t - t_new) / h`.
+    dense: [Vec<f64>; 3],
+    dense_t: f64,
+    dense_h: f64,
+    /// Whether `dense` describes a step of this run (for starting values).
+    have_dense: bool,
+    /// `θ / (1 - θ)` of the last Newton iteration, carried to the next step's first
+    /// convergence test (RADAU5's `FACCON`).
+    faccon: f64,
+}
+
+impl Radau5 {
+    /// The method for `n` states whose Jacobian lies in `band`, with settings `o`
+    /// (already validated).
+    pub fn new(n: usize, band: Band, o: &Radau5Options) -> Self {
+        let rtol = 0.1 * o.rtol.powf(2.0 / 3.0);
+        let atol = rtol * (o.atol / o.rtol);
+        let newton_tol = o
+            .newton_tol
+            .unwrap_or_else(|| (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt())));
+        let v = || vec![0.0; n];
+        Radau5 {
+            k: Constants::new(),
+            rtol,
+            atol,
+            max_iterations: o.max_newton_iterations,
+            newton_tol,
+            safety: o.safety,
+            reuse_below: o.reuse_jacobian_below,
+            e1: Lu::new(band),
+            e2: ComplexLu::new(band),
+            fac1: 0.0,
+            alphn: 0.0,
+            betan: 0.0,
+            z: [v(), v(), v()],
+            w: [v(), v(), v()],
+            r: [v(), v(), v()],
+            stage: v(),
+            err_rhs: v(),
+            err_v: v(),
+            scale: v(),
+            x_new: v(),
+            dense: [v(), v(), v()],
+            dense_t: 0.0,
+            dense_h: 1.0,
+            have_dense: false,
+            faccon: 1.0,
+        }
+    }
+
+    /// Starting values of `Z` and `W` for a step of size `h`: zero on the first step,
+    /// else the last step's collocation polynomial extrapolated to the new nodes.
+    fn starting_values(&mut self, h: f64) {
+        let [z1, z2, z3] = &mut self.z;
+        let [w1, w2, w3] = &mut self.w;
+        if !self.have_dense {
+            for v in [z1, z2, z3, w1, w2, w3] {
+                v.fill(0.0);
+            }
+            return;
+        }
+        let k = &self.k;
+        let (c1m1, c2m1) = (k.c1 - 1.0, k.c2 - 1.0);
+        let q = h / self.dense_h;
+        let (s1, s2, s3) = (k.c1 * q, k.c2 * q, q);
+        let [d1, d2, d3] = &self.dense;
+        let poly = |s: f64, i: usize| s * (d1[i] + (s - c2m1) * (d2[i] + (s - c1m1) * d3[i]));
+        for i in 0..z1.len() {
+            let (a, b, c) = (poly(s1, i), poly(s2, i), poly(s3, i));
+            z1[i] = a;
+            z2[i] = b;
+            z3[i] = c;
+            w1[i] = TI[0][0] * a + TI[0][1] * b + TI[0][2] * c;
+            w2[i] = TI[1][0] * a + TI[1][1] * b + TI[1][2] * c;
+            w3[i] = TI[2][0] * a + TI[2][1] * b + TI[2][2] * c;
+        }
+    }
+
+    /// The error estimate of HW II eq. (8.20): `(γ/h I - J)^-1 (f0 + (dd · Z) / h)`
+    /// (RADAU5's scaling), and on the first step or after a rejection, the estimate
+    /// filtered once more through `f` (HW II p. 124).
+    fn error_estimate<M: Model>(
+        &mut self,
+        model: &M,
+        start: &StepStart<'_>,
+        n_rhs: &mut usize,
+    ) -> f64 {
+        let n = start.x.len();
+        let dd = self.k.dd.map(|d| d / start.h);
+        let [z1, z2, z3] = &self.z;
+        for i in 0..n {
+            let v = dd[0] * z1[i] + dd[1] * z2[i] + dd[2] * z3[i];
+            self.err_rhs[i] = v;
+            self.err_v[i] = v + start.f0[i];
+        }
+        self.e1.solve(&mut self.err_v);
+        let scale = &self.scale;
+        let mut err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
+        if err >= 1.0 && (start.first || start.after_reject) {
+            for i in 0..n {
+                self.stage[i] = start.x[i] + self.err_v[i];
+            }
+            // A non-finite value here only says that the unfiltered estimate was
+            // large: keep that one.
+            if eval(model, start.t, &self.stage, &mut self.err_v, n_rhs).is_ok() {
+                for (e, r) in self.err_v.iter_mut().zip(&self.err_rhs) {
+                    *e += r;
+                }
+                self.e1.solve(&mut self.err_v);
+                err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
+            }
+        }
+        err
+    }
+}
+
+impl ImplicitMethod for Radau5 {
+    const NEEDS_DFDT: bool = false;
+    /// The error estimate is `O(h^4)`.
+    const ERROR_EXPONENT: f64 = 0.25;
+
+    fn restart(&mut self) {
+        self.have_dense = false;
+        self.faccon = 1.0;
+    }
+
+    fn factor(&mut self, h: f64, jac: &[f64]) -> Result<usize, Singular> {
+        self.fac1 = self.k.gamma / h;
+        self.alphn = self.k.alpha / h;
+        self.betan = self.k.beta / h;
+        self.e1.set_shifted(self.fac1, jac);
+        self.e1.factor()?;
+        self.e2.set_shifted(self.alphn, self.betan, jac);
+        self.e2.factor()?;
+        Ok(2)
+    }
+
+    fn attempt<M: Model>(
+        &mut self,
+        model: &M,
+        start: &StepStart<'_>,
+        n_rhs: &mut usize,
+    ) -> Attempt {
+        let (t, h, x) = (start.t, start.h, start.x);
+        let n = x.len();
+        for (s, xi) in self.scale.iter_mut().zip(x) {
+            *s = self.atol + self.rtol * xi.abs();
+        }
+        self.starting_values(h);
+        let nodes = [self.k.c1, self.k.c2, 1.0];
+        let nit = self.max_iterations;
+        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
+        let mut theta = self.reuse_below;
+        let (mut dyno_old, mut thq_old) = (1.0, 1.0);
+        let mut iterations = 0;
+        loop {
+            if iterations >= nit {
+                return Attempt::NewtonFailed {
+                    factor: 0.5,
+                    iterations,
+                };
+            }
+            // F(Z), transformed by T^-1.
+            for (s, (z, r)) in self.z.iter().zip(&mut self.r).enumerate() {
+                for ((st, xi), zi) in self.stage.iter_mut().zip(x).zip(z) {
+                    *st = xi + zi;
+                }
+                let t_s = if s == 2 { t + h } else { t + nodes[s] * h };
+                if let Err(nf) = eval(model, t_s, &self.stage, r, n_rhs) {
+                    return Attempt::NonFinite(nf);
+                }
+            }
+            let [r1, r2, r3] = &mut self.r;
+            let [w1, w2, w3] = &self.w;
+            let (fac1, alphn, betan) = (self.fac1, self.alphn, self.betan);
+            for i in 0..n {
+                let (a1, a2, a3) = (r1[i], r2[i], r3[i]);
+                let (f1, f2, f3) = (
+                    TI[0][0] * a1 + TI[0][1] * a2 + TI[0][2] * a3,
+                    TI[1][0] * a1 + TI[1][1] * a2 + TI[1][2] * a3,
+                    TI[2][0] * a1 + TI[2][1] * a2 + TI[2][2] * a3,
+                );
+                // Right-hand sides of the Newton step: Λ/h W - T^-1 F, negated.
+                r1[i] = f1 - fac1 * w1[i];
+                r2[i] = f2 - alphn * w2[i] + betan * w3[i];
+                r3[i] = f3 - betan * w2[i] - alphn * w3[i];
+            }
+            self.e1.solve(r1);
+            self.e2.solve(r2, r3);
+            iterations += 1;
+            let scale = &self.scale;
+            let mut sum = 0.0;
+            for i in 0..n {
+                sum += (r1[i] * r1[i] + r2[i] * r2[i] + r3[i] * r3[i]) / (scale[i] * scale[i]);
+            }
+            let dyno = (sum / (3 * n).max(1) as f64).sqrt();
+            if !dyno.is_finite() {
+                return Attempt::NewtonFailed {
+                    factor: 0.5,
+                    iterations,
+                };
+            }
+            if iterations > 1 && iterations < nit {
+                let thq = dyno / dyno_old;
+                theta = if iterations == 2 {
+                    thq
+                } else {
+                    (thq * thq_old).sqrt()
+                };
+                thq_old = thq;
+                if theta < 0.99 {
+                    self.faccon = theta / (1.0 - theta);
+                    let remaining = (nit - 1 - iterations) as i32;
+                    let predicted = self.faccon * dyno * theta.powi(remaining) / self.newton_tol;
+                    if predicted >= 1.0 {
+                        // Convergence within the limit is not expected: retry with the
+                        // step the rate suggests.
+                        let q = predicted.clamp(1e-4, 20.0);
+                        let factor = 0.8 * q.powf(-1.0 / (4.0 + f64::from(remaining)));
+                        return Attempt::NewtonFailed { factor, iterations };
+                    }
+                } else {
+                    return Attempt::NewtonFailed {
+                        factor: 0.5,
+                        iterations,
+                    };
+                }
+            }
+            dyno_old = dyno.max(f64::EPSILON);
+            let [w1, w2, w3] = &mut self.w;
+            let [z1, z2, z3] = &mut self.z;
+            for i in 0..n {
+                let (a, b, c) = (w1[i] + r1[i], w2[i] + r2[i], w3[i] + r3[i]);
+                w1[i] = a;
+                w2[i] = b;
+                w3[i] = c;
+                z1[i] = T[0][0] * a + T[0][1] * b + T[0][2] * c;
+                z2[i] = T[1][0] * a + T[1][1] * b + T[1][2] * c;
+                z3[i] = T[2][0] * a + b;
+            }
+            if self.faccon * dyno <= self.newton_tol {
+                break;
+            }
+        }
+        for ((xn, xi), z3) in self.x_new.iter_mut().zip(x).zip(&self.z[2]) {
+            *xn = xi + z3;
+        }
+        let err = self.error_estimate(model, start, n_rhs);
+        // Fewer Newton iterations, bolder steps (RADAU5's `FAC`).
+        let nit = nit as f64;
+        let safety_iter = (1.0 + 2.0 * nit) / (iterations as f64 + 2.0 * nit);
+        Attempt::Done {
+            err,
+            safety: self.safety * safety_iter.min(1.0),
+            keep_jacobian: theta <= self.reuse_below,
+        }
+    }
+
+    fn x_new(&self) -> &[f64] {
+        &self.x_new
+    }
+
+    fn accept(&mut self, t: f64, h: f64, x: &mut [f64]) {
+        let k = &self.k;
+        let (c1m1, c2m1, c1mc2) = (k.c1 - 1.0, k.c2 - 1.0, k.c1 - k.c2);
+        let [z1, z2, z3] = &self.z;
+        let [d1, d2, d3] = &mut self.dense;
+        for i in 0..x.len() {
+            // Divided differences of u(s) - x_new at s = 0, c2 - 1, c1 - 1, -1.
+            d1[i] = (z2[i] - z3[i]) / c2m1;
+            let ak = (z1[i] - z2[i]) / c1mc2;
+            let acont3 = (ak - z1[i] / k.c1) / k.c2;
+            d2[i] = (ak - d1[i]) / c1m1;
+            d3[i] = d2[i] - acont3;
+        }
+        self.dense_t = t + h;
+        self.dense_h = h;
+        self.have_dense = true;
+        x.copy_from_slice(&self.x_new);
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let k = &self.k;
+        let (c1m1, c2m1) = (k.c1 - 1.0, k.c2 - 1.0);
+        let s = (t - self.dense_t) / self.dense_h;
+        let [d1, d2, d3] = &self.dense;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.x_new[i] + s * (d1[i] + (s - c2m1) * (d2[i] + (s - c1m1) * d3[i]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Radau IIA (order 5) Butcher matrix (HW II, Table IV.5.6).
+    fn butcher() -> [[f64; 3]; 3] {
+        let s = 6f64.sqrt();
+        [
+            [
+                (88.0 - 7.0 * s) / 360.0,
+                (296.0 - 169.0 * s) / 1800.0,
+                (-2.0 + 3.0 * s) / 225.0,
+            ],
+            [
+                (296.0 + 169.0 * s) / 1800.0,
+                (88.0 + 7.0 * s) / 360.0,
+                (-2.0 - 3.0 * s) / 225.0,
+            ],
+            [(16.0 - s) / 36.0, (16.0 + s) / 36.0, 1.0 / 9.0],
+        ]
+    }
+
+    fn mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+        let mut c = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+            }
+        }
+        c
+    }
+
+    #[test]
+    fn transformation_block_diagonalizes_the_inverse_butcher_matrix() {
+        let k = Constants::new();
+        // T^-1 A^-1 T = Λ  <=>  A (T Λ) = T, checked without inverting A.
+        let lambda = [
+            [k.gamma, 0.0, 0.0],
+            [0.0, k.alpha, -k.beta],
+            [0.0, k.beta, k.alpha],
+        ];
+        let lhs = mul(&butcher(), &mul(&T, &lambda));
+        let id = mul(&T, &TI);
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((lhs[i][j] - T[i][j]).abs() < 1e-14, "A T Λ != T at {i},{j}");
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!((id[i][j] - want).abs() < 1e-14, "T TI != I at {i},{j}");
+            }
+        }
+        // The nodes are the row sums of A.
+        let a = butcher();
+        for (i, c) in [k.c1, k.c2, 1.0].iter().enumerate() {
+            assert!((a[i].iter().sum::<f64>() - c).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn dense_output_interpolates_the_stage_values() {
+        let n = 1;
+        let mut m = Radau5::new(n, Band::dense(n), &Radau5Options::default());
+        // Stage increments of some smooth function.
+        let (h, t) = (0.5, 2.0);
+        let u = |s: f64| (1.3 * s).sin() + s * s;
+        let k = m.k;
+        m.z = [
+            vec![u(k.c1) - u(0.0)],
+            vec![u(k.c2) - u(0.0)],
+            vec![u(1.0) - u(0.0)],
+        ];
+        m.x_new = vec![u(1.0)];
+        let mut x = vec![u(0.0)];
+        m.accept(t, h, &mut x);
+        let mut out = [0.0];
+        for theta in [0.0, k.c1, k.c2, 1.0] {
+            m.interpolate(t + theta * h, &mut out);
+            assert!((out[0] - u(theta)).abs() < 1e-14, "θ = {theta}");
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! Proof that the stiff solvers' stepping loops, Jacobian evaluations, LU
+//! factorizations and dense output included, are free of heap allocation once a
+//! [`Simulation`] and its recorder are set up.
+//!
+//! A global allocator is per binary, so this test has a binary of its own. It counts
+//! allocations (and reallocations) made on the current thread while a thread-local flag
+//! is set.
+
+mod stiff_common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use bgdsl_runtime::{Model, Radau5Options, Rodas4Options, Scalar, Simulation, Solver, Trajectory};
+use stiff_common::{Hires, Oregonator};
+
+struct CountingAllocator;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+fn note_allocation() {
+    // `try_with`: the allocator may run while thread-locals are being torn down.
+    if COUNTING.try_with(Cell::get).unwrap_or(false) {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+// SAFETY: every call is forwarded unchanged to the system allocator; counting has no
+// effect on the memory handed out.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        // SAFETY: the caller's contract for `layout` is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        // SAFETY: as above.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note_allocation();
+        // SAFETY: as above; `ptr` was allocated by `System` through this allocator.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as above.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+/// The number of heap allocations `f` makes on this thread.
+fn allocations_in<T>(f: impl FnOnce() -> T) -> (usize, T) {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    let out = f();
+    COUNTING.with(|c| c.set(false));
+    (ALLOCATIONS.load(Ordering::Relaxed) - before, out)
+}
+
+/// A forced, damped Duffing oscillator made stiff by a fast first-order actuator: time
+/// dependent (so Rodas4 evaluates `∂f/∂t`), nonlinear, with outputs.
+struct ForcedDuffing;
+
+impl Model for ForcedDuffing {
+    type Params = ();
+    const NAME: &'static str = "forced_duffing";
+    const STATE_NAMES: &'static [&'static str] = &["q", "p", "actuator.f"];
+    const OUTPUT_NAMES: &'static [&'static str] = &["energy"];
+    const JACOBIAN_SPARSITY: Option<&'static [&'static [usize]]> = Some(&[&[1], &[0, 1, 2], &[2]]);
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[1.0, 0.0, 0.0]);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        let c = T::from_f64;
+        dx[0] = x[1];
+        dx[1] = -x[0] - c(0.5) * x[0] * x[0] * x[0] - c(0.1) * x[1] + x[2];
+        dx[2] = c(-1e5) * (x[2] - c(0.3 * (1.3 * t).cos()));
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, x: &[T], y: &mut [T]) {
+        let h = T::from_f64(0.5);
+        y[0] = h * x[1] * x[1] + h * x[0] * x[0];
+    }
+}
+
+/// Runs `solver` on `model` through `samples` sample times, twice (listed and uniform),
+/// counting allocations after set-up; returns the steps taken.
+fn count_runs<M: Model>(model: &M, solver: Solver, t_end: f64, samples: usize) -> usize {
+    let mut x0 = vec![0.0; M::N_STATES];
+    model.initial_state(&mut x0);
+    let times = bgdsl_runtime::sample_times_uniform(0.0, t_end, samples);
+    let mut sim = Simulation::new(model, solver).unwrap();
+    let mut traj = Trajectory::for_model::<M>(2 * samples);
+    let (n, (listed, uniform)) = allocations_in(|| {
+        let listed = sim.run(0.0, &x0, &times, &mut traj);
+        let uniform = sim.run_uniform(0.0, &x0, t_end, samples, &mut traj);
+        (listed, uniform)
+    });
+    let (listed, uniform) = (listed.unwrap(), uniform.unwrap());
+    assert_eq!(
+        n,
+        0,
+        "{} on {}: allocations in run ({listed:?})",
+        solver.name(),
+        M::NAME
+    );
+    assert_eq!(listed, uniform);
+    assert_eq!(traj.len(), 2 * samples);
+    listed.accepted
+}
+
+/// One test, so that nothing else runs on this thread while counting.
+#[test]
+fn stiff_stepping_allocates_nothing_after_set_up() {
+    let radau = Solver::Radau5(Radau5Options {
+        rtol: 1e-8,
+        atol: 1e-10,
+        // Checked every step: reading the clock does not allocate either.
+        max_wall_time: Some(Duration::from_secs(60)),
+        ..Default::default()
+    });
+    let rodas = Solver::Rodas4(Rodas4Options {
+        rtol: 1e-6,
+        atol: 1e-9,
+        max_wall_time: Some(Duration::from_secs(60)),
+        ..Default::default()
+    });
+    for solver in [radau, rodas] {
+        // Many steps, Jacobians, LUs (including rejections); most samples inside steps.
+        let steps = count_runs(&Oregonator, solver, 360.0, 3_001);
+        assert!(steps >= 500, "{}: {steps} steps", solver.name());
+        count_runs(&Hires, solver, 321.8122, 1_001);
+        count_runs(&ForcedDuffing, solver, 20.0, 2_001);
+    }
+
+    // A failing run allocates nothing either: the error is plain data.
+    let budget = Solver::Radau5(Radau5Options {
+        max_steps: 10,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&Oregonator, budget).unwrap();
+    let (n, result) = allocations_in(|| sim.run(0.0, &[1.0, 2.0, 3.0], &[360.0], &mut ()));
+    assert!(result.is_err());
+    assert_eq!(n, 0, "allocations in a failing run");
+
+    // Setting up does allocate (the workspace), so the counter does count.
+    let (n, sim) = allocations_in(|| Simulation::new(&Oregonator, radau));
+    drop(sim);
+    assert!(n > 0, "the counting allocator saw nothing");
+}

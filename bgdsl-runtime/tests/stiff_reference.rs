@@ -1,0 +1,112 @@
+//! The stiff solvers against published reference solutions of the Bari *Test Set for
+//! IVP Solvers* (see `stiff_common`).
+//!
+//! Each test asks for a tolerance, checks that every component of the final state is
+//! within `atol + rtol |ref|` of the reference, and pins the work counters. **The
+//! counters are pinned so that a change of the algorithm (step-size control, Newton
+//! control, Jacobian and LU reuse) is deliberate**: such a change must update them, and
+//! the diff shows what it costs or saves.
+
+mod stiff_common;
+
+use bgdsl_runtime::{Radau5Options, Rodas4Options, Solver, Stats};
+use stiff_common::*;
+
+fn radau5(rtol: f64, atol: f64) -> Solver {
+    Solver::Radau5(Radau5Options {
+        rtol,
+        atol,
+        ..Default::default()
+    })
+}
+
+fn rodas4(rtol: f64, atol: f64) -> Solver {
+    Solver::Rodas4(Rodas4Options {
+        rtol,
+        atol,
+        ..Default::default()
+    })
+}
+
+/// The counters in the order they are pinned.
+fn counters(s: &Stats) -> [usize; 5] {
+    [s.accepted, s.rejected, s.n_rhs, s.n_jac, s.n_lu]
+}
+
+/// Robertson to `t = 1e11`; reference: Bari test set, problem ROBER (computed with
+/// RADAU5 in quadruple precision). `atol` is small because `y2` ends near 8e-14.
+#[test]
+fn robertson_to_1e11() {
+    let (rtol, atol) = (1e-6, 1e-14);
+    for solver in [radau5(rtol, atol), rodas4(rtol, atol)] {
+        let (x, stats) = solve(&Robertson, solver, 1e11);
+        let err = scaled_error(&x, &ROBERTSON_REF, rtol, atol);
+        assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
+        // Mass is conserved: y1 + y2 + y3 = 1.
+        assert!((x.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        // Pinned: a change of the algorithm must be deliberate.
+        let pinned = match solver.name() {
+            "radau5" => [290, 2, 2161, 272, 570],
+            _ => [459, 1, 2761, 459, 460],
+        };
+        assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
+    }
+}
+
+/// Van der Pol with `μ = 1000` (`ε = 1e-6` in the scaled form) to `t = 2`, through a
+/// steep jump of `y2`; reference: Bari test set, problem VDPOL.
+#[test]
+fn van_der_pol_mu_1000_to_2() {
+    let (rtol, atol) = (1e-6, 1e-6);
+    for solver in [radau5(rtol, atol), rodas4(rtol, atol)] {
+        let (x, stats) = solve(&VanDerPol, solver, 2.0);
+        let err = scaled_error(&x, &VDP_REF, rtol, atol);
+        assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
+        // Pinned: a change of the algorithm must be deliberate.
+        let pinned = match solver.name() {
+            "radau5" => [485, 9, 3938, 303, 812],
+            _ => [1061, 10, 6418, 1061, 1071],
+        };
+        assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
+    }
+}
+
+/// HIRES to `t = 321.8122`; reference: Bari test set, problem HIRES.
+#[test]
+fn hires_to_321_8122() {
+    let (rtol, atol) = (1e-6, 1e-9);
+    for solver in [radau5(rtol, atol), rodas4(rtol, atol)] {
+        let (x, stats) = solve(&Hires, solver, HIRES_T_END);
+        let err = scaled_error(&x, &HIRES_REF, rtol, atol);
+        assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
+        // Pinned: a change of the algorithm must be deliberate.
+        let pinned = match solver.name() {
+            "radau5" => [102, 9, 977, 61, 174],
+            _ => [272, 1, 1639, 272, 273],
+        };
+        assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
+    }
+}
+
+/// The Oregonator to `t = 360`, through relaxation oscillations over six orders of
+/// magnitude; reference: Bari test set, problem OREGO. Rodas4 needs a tighter `rtol`
+/// than Radau5 for the same accuracy: its error estimate is not transformed, and
+/// Rosenbrock methods lose order on stiff problems.
+#[test]
+fn oregonator_to_360() {
+    let (rtol, atol) = (1e-6, 1e-6);
+    for (solver, rtol, atol) in [
+        (radau5(rtol, atol), rtol, atol),
+        (rodas4(rtol / 10.0, atol / 10.0), rtol, atol),
+    ] {
+        let (x, stats) = solve(&Oregonator, solver, 360.0);
+        let err = scaled_error(&x, &OREGO_REF, rtol, atol);
+        assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
+        // Pinned: a change of the algorithm must be deliberate.
+        let pinned = match solver.name() {
+            "radau5" => [522, 33, 4739, 426, 962],
+            _ => [2479, 6, 14906, 2479, 2485],
+        };
+        assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
+    }
+}
