@@ -1,1 +1,26 @@
-//! Models written with `bond_graph!`.
+//! Models written with `bond_graph!`, one module per model, each with its bond graph
+//! drawn in its documentation:
+//!
+//! - [`Oscillator`]: mass, spring and damper pushed by a force.
+//! - [`SeriesRlc`]: a series RLC circuit on a voltage source.
+//! - [`DcMotor`]: a DC motor driving a geared, compliant, inertial load.
+//! - [`QuarterCar`]: the quarter-car suspension model over a road profile.
+//! - [`Duffing`]: the forced Duffing oscillator (a cubic spring).
+//!
+//! The hidden module `reference` holds hand-written equations of some of them, for
+//! the tests and benchmarks that compare them with the generated code.
+
+pub mod dc_motor;
+pub mod duffing;
+pub mod oscillator;
+pub mod quarter_car;
+pub mod quick_return_rigid;
+#[doc(hidden)]
+pub mod reference;
+pub mod rlc;
+
+pub use dc_motor::{DcMotor, DcMotorOutputs, DcMotorParams, DcMotorState};
+pub use duffing::{Duffing, DuffingOutputs, DuffingParams, DuffingState};
+pub use oscillator::{Oscillator, OscillatorOutputs, OscillatorParams, OscillatorState};
+pub use quarter_car::{QuarterCar, QuarterCarOutputs, QuarterCarParams, QuarterCarState};
+pub use rlc::{SeriesRlc, SeriesRlcOutputs, SeriesRlcParams, SeriesRlcState};

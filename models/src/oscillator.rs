@@ -1,0 +1,69 @@
+//! A mass on a spring with a damper, pushed by a force.
+
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    /// A mass on a spring with a viscous damper, pushed by a constant force: the
+    /// textbook single-degree-of-freedom oscillator `m x'' + c x' + k x = F`.
+    ///
+    /// ```text
+    ///                    I mass
+    ///                      ─
+    ///                      ↾
+    ///                      │
+    ///   Se push ─────⇀| 1 v |─────⇀ C spring
+    ///                     ─
+    ///                     │
+    ///                     ⇂
+    ///                  R damper
+    /// ```
+    ///
+    /// Half arrows point the way power flows (out of the source, into the storage and
+    /// dissipative elements); `|` and `─` mark the causal strokes. The 1-junction `v` is
+    /// the common velocity of the mass, the spring end and the damper; the force balance
+    /// `F = m v' + k x + c v` is its effort sum. SCAP gives `mass` integral causality
+    /// (stroke at the mass: it receives the net force and answers with the velocity),
+    /// `spring` integral causality and `damper` resistance causality (both strokes at
+    /// `v`: they receive the velocity and answer with a force).
+    ///
+    /// States: `mass.p` (momentum `m v`, kg·m/s) and `spring.q` (extension `x`, m).
+    ///
+    /// | parameter | meaning | unit |
+    /// |---|---|---|
+    /// | `m` | mass | kg |
+    /// | `k` | spring stiffness | N/m |
+    /// | `c` | damping coefficient | N·s/m |
+    /// | `force` | applied force | N |
+    pub model Oscillator {
+        /// mass, kg
+        param m = 1.0;
+        /// stiffness, N/m
+        param k = 100.0;
+        /// damping coefficient, N·s/m
+        param c = 0.4;
+        /// applied force, N
+        param force = 1.0;
+
+        Se push = force;
+        I  mass = m;          // f = p / m
+        C  spring = k;        // e = k q
+        R  damper = c;        // e = c f
+        1  v;                 // the common velocity
+
+        push -> v -> { mass, spring, damper };
+
+        init spring.q = 0.01;
+        /// Position of the mass (spring extension), m.
+        output x = spring.q;
+        /// Velocity of the mass, m/s.
+        output speed = v.f;
+        /// Force of the spring on the mass, N (positive: pulls back towards x = 0).
+        output spring_force = spring.e;
+        /// Power dissipated in the damper, W.
+        output damper_power = damper.e * damper.f;
+        /// Power delivered by the applied force, W.
+        output input_power = push.e * push.f;
+        /// Stored energy, J: kinetic `p²/2m` plus elastic `k x²/2`.
+        output energy = 0.5 * mass.p * mass.p / m + 0.5 * k * spring.q * spring.q;
+    }
+}
