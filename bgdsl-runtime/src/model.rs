@@ -57,6 +57,14 @@ pub trait Model {
         false
     }
 
+    /// The solver a run uses when the caller names none. Bond-graph models of mechanisms
+    /// are stiff by construction (stiff compliant joints stand in for constraints), so
+    /// the default is Radau IIA of order 5, which is also correct, if not the cheapest,
+    /// on non-stiff models. A model that knows better overrides this.
+    fn default_solver(&self) -> crate::solver::Solver {
+        crate::solver::Solver::stiff()
+    }
+
     /// The causal bond graph the model was generated from, if it has one.
     fn causal_graph(&self) -> Option<&'static CausalGraph> {
         None

@@ -203,6 +203,11 @@ pub(super) fn min_step(t: f64) -> f64 {
 }
 
 impl<'m, M: Model> Simulation<'m, M> {
+    /// A simulation of `model` with the model's own [`Model::default_solver`].
+    pub fn with_default_solver(model: &'m M) -> Result<Self, SolverError> {
+        Self::new(model, model.default_solver())
+    }
+
     /// Checks the solver's options and allocates the workspace for `model`.
     pub fn new(model: &'m M, solver: Solver) -> Result<Self, SolverError> {
         solver.validate()?;
