@@ -493,7 +493,7 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             ElementCausality::Conductance => quote!(Conductance),
             ElementCausality::Fixed => quote!(Fixed),
         };
-        quote!(#rt::GraphElement { name: #name, kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
+        quote!(#rt::GraphElement { name: #name, group: "", kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);

@@ -59,8 +59,11 @@ pub enum ElementCausality {
 /// One element of the graph.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct GraphElement {
-    /// The element's name in the model.
+    /// The element's name in the model (inside a submodel instance, its local name).
     pub name: &'static str,
+    /// The submodel instance the element belongs to, as a path such as `"crank"` or
+    /// `"crank.A1"`; empty for the model's own elements.
+    pub group: &'static str,
     /// Its kind.
     pub kind: ElementKind,
     /// The causality it was assigned.
