@@ -188,6 +188,21 @@ impl DivAssign for Dual {
     }
 }
 
+impl num_traits::Zero for Dual {
+    fn zero() -> Self {
+        Dual::constant(0.0)
+    }
+    fn is_zero(&self) -> bool {
+        self.re == 0.0 && self.eps == 0.0
+    }
+}
+
+impl num_traits::One for Dual {
+    fn one() -> Self {
+        Dual::constant(1.0)
+    }
+}
+
 impl Scalar for Dual {
     #[inline(always)]
     fn from_f64(value: f64) -> Self {

@@ -15,6 +15,7 @@ pub mod graph;
 pub mod jacobian;
 mod linalg;
 pub mod model;
+pub mod multibond;
 pub mod record;
 pub mod scalar;
 pub mod solver;

@@ -1,7 +1,9 @@
 //! The number type a model's equations are written in.
 //!
 //! Generated derivative functions are generic over [`Scalar`], so the same straight-line
-//! code runs on `f64` for simulation and on dual numbers for exact Jacobians.
+//! code runs on `f64` for simulation and on dual numbers for exact Jacobians. `Zero` and
+//! `One` make every `Scalar` a valid element of nalgebra's fixed-size vectors and
+//! matrices, which is what multibonds are made of.
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -26,6 +28,8 @@ pub trait Scalar:
     + SubAssign
     + MulAssign
     + DivAssign
+    + num_traits::Zero
+    + num_traits::One
 {
     /// A constant: no dependence on the state.
     fn from_f64(value: f64) -> Self;

@@ -1,0 +1,229 @@
+//! Multibonds: the vectors and matrices an n-dimensional bond carries, and the helpers
+//! a law uses to build them.
+//!
+//! A 3-D multibond's effort and flow are [`Vector3`]s of the model's scalar type; a
+//! modulus or a stiffness may be a number or a [`Matrix3`]. Everything here is generic
+//! over [`Scalar`], so laws written with these helpers differentiate exactly.
+//!
+//! ```
+//! use bgdsl_runtime::multibond::{skew, vec3};
+//! let a = vec3(1.0, 2.0, 3.0);
+//! let b = vec3(-1.0, 0.5, 4.0);
+//! assert_eq!(skew(a) * b, a.cross(&b));
+//! ```
+
+pub use nalgebra::{SMatrix, SVector};
+
+use crate::scalar::Scalar;
+
+/// A 3-vector of the model's scalar type.
+pub type Vector3<S> = SVector<S, 3>;
+/// A 3×3 matrix of the model's scalar type.
+pub type Matrix3<S> = SMatrix<S, 3, 3>;
+
+/// The vector `(x, y, z)`.
+pub fn vec3<S: Scalar>(x: S, y: S, z: S) -> Vector3<S> {
+    Vector3::new(x, y, z)
+}
+
+/// The diagonal matrix `diag(a, b, c)`, e.g. a stiffness free along x.
+pub fn diag3<S: Scalar>(a: S, b: S, c: S) -> Matrix3<S> {
+    let zero = S::from_f64(0.0);
+    Matrix3::new(a, zero, zero, zero, b, zero, zero, zero, c)
+}
+
+/// The 3×3 identity.
+pub fn identity3<S: Scalar>() -> Matrix3<S> {
+    diag3(S::from_f64(1.0), S::from_f64(1.0), S::from_f64(1.0))
+}
+
+/// The skew-symmetric matrix of `a`: `skew(a) * b == a × b`.
+pub fn skew<S: Scalar>(a: Vector3<S>) -> Matrix3<S> {
+    let zero = S::from_f64(0.0);
+    Matrix3::new(zero, -a.z, a.y, a.z, zero, -a.x, -a.y, a.x, zero)
+}
+
+/// A rotation by `angle` (radians, counter-clockwise) about the z-axis.
+pub fn rot_z<S: Scalar>(angle: S) -> Matrix3<S> {
+    let (s, c) = (angle.sin(), angle.cos());
+    let (zero, one) = (S::from_f64(0.0), S::from_f64(1.0));
+    Matrix3::new(c, -s, zero, s, c, zero, zero, zero, one)
+}
+
+/// A parameter vector (`[f64; N]` in the parameter struct) in the scalar type.
+pub fn vector_param<S: Scalar, const N: usize>(value: &[f64; N]) -> SVector<S, N> {
+    SVector::from_fn(|i, _| S::from_f64(value[i]))
+}
+
+/// A parameter matrix (`[[f64; C]; R]`, rows first) in the scalar type.
+pub fn matrix_param<S: Scalar, const R: usize, const C: usize>(
+    value: &[[f64; C]; R],
+) -> SMatrix<S, R, C> {
+    SMatrix::from_fn(|i, j| S::from_f64(value[i][j]))
+}
+
+/// How a linear coefficient acts on an n-dimensional bond variable: a number scales
+/// it, a matrix multiplies it. The macro writes `apply(&k, q)` for a law `e = k q`
+/// without knowing which of the two `k` is.
+pub trait Linear<S: Scalar, const N: usize> {
+    /// `k v`.
+    fn apply(&self, v: SVector<S, N>) -> SVector<S, N>;
+    /// `kᵀ v`.
+    fn apply_transpose(&self, v: SVector<S, N>) -> SVector<S, N>;
+    /// `k⁻¹ v` (a singular matrix gives non-finite values, which the solver reports).
+    fn solve(&self, v: SVector<S, N>) -> SVector<S, N>;
+    /// `k⁻ᵀ v`.
+    fn solve_transpose(&self, v: SVector<S, N>) -> SVector<S, N>;
+}
+
+impl<S: Scalar, const N: usize> Linear<S, N> for S {
+    fn apply(&self, v: SVector<S, N>) -> SVector<S, N> {
+        v * *self
+    }
+    fn apply_transpose(&self, v: SVector<S, N>) -> SVector<S, N> {
+        v * *self
+    }
+    fn solve(&self, v: SVector<S, N>) -> SVector<S, N> {
+        v / *self
+    }
+    fn solve_transpose(&self, v: SVector<S, N>) -> SVector<S, N> {
+        v / *self
+    }
+}
+
+impl<S: Scalar, const N: usize> Linear<S, N> for SMatrix<S, N, N> {
+    fn apply(&self, v: SVector<S, N>) -> SVector<S, N> {
+        self * v
+    }
+    fn apply_transpose(&self, v: SVector<S, N>) -> SVector<S, N> {
+        self.transpose() * v
+    }
+    fn solve(&self, v: SVector<S, N>) -> SVector<S, N> {
+        solve(*self, v)
+    }
+    fn solve_transpose(&self, v: SVector<S, N>) -> SVector<S, N> {
+        solve(self.transpose(), v)
+    }
+}
+
+/// Solves `a x = b` by Gaussian elimination with partial pivoting (pivots chosen by
+/// value, so the same pivots serve `f64` and dual numbers).
+fn solve<S: Scalar, const N: usize>(
+    mut a: SMatrix<S, N, N>,
+    mut b: SVector<S, N>,
+) -> SVector<S, N> {
+    for k in 0..N {
+        let pivot = (k..N)
+            .max_by(|&i, &j| {
+                a[(i, k)]
+                    .to_f64()
+                    .abs()
+                    .total_cmp(&a[(j, k)].to_f64().abs())
+            })
+            .unwrap_or(k);
+        a.swap_rows(k, pivot);
+        b.swap_rows(k, pivot);
+        for i in k + 1..N {
+            let factor = a[(i, k)] / a[(k, k)];
+            for j in k..N {
+                let update = factor * a[(k, j)];
+                a[(i, j)] -= update;
+            }
+            let update = factor * b[k];
+            b[i] -= update;
+        }
+    }
+    for k in (0..N).rev() {
+        let mut sum = b[k];
+        for j in k + 1..N {
+            sum -= a[(k, j)] * b[j];
+        }
+        b[k] = sum / a[(k, k)];
+    }
+    b
+}
+
+/// A value a state can hold, laid out in the state vector: a number, a vector, or a
+/// matrix stored column by column (nalgebra's order).
+pub trait StateValue<S: Scalar>: Sized {
+    /// How many state entries it takes.
+    const LEN: usize;
+    /// Reads it from `x` (exactly `LEN` entries).
+    fn read(x: &[S]) -> Self;
+    /// Writes it into `out` (exactly `LEN` entries).
+    fn write(&self, out: &mut [S]);
+}
+
+impl<S: Scalar> StateValue<S> for S {
+    const LEN: usize = 1;
+    fn read(x: &[S]) -> Self {
+        x[0]
+    }
+    fn write(&self, out: &mut [S]) {
+        out[0] = *self;
+    }
+}
+
+impl<S: Scalar, const R: usize, const C: usize> StateValue<S> for SMatrix<S, R, C> {
+    const LEN: usize = R * C;
+    fn read(x: &[S]) -> Self {
+        SMatrix::from_column_slice(x)
+    }
+    fn write(&self, out: &mut [S]) {
+        out.copy_from_slice(self.as_slice());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skew_is_the_cross_product_and_antisymmetric() {
+        let a = vec3(0.3, -1.2, 2.0);
+        let b = vec3(4.0, 0.5, -0.7);
+        assert_eq!(skew(a) * b, a.cross(&b));
+        assert_eq!(skew(a).transpose(), -skew(a));
+    }
+
+    #[test]
+    fn rotation_about_z_turns_x_into_y() {
+        let r = rot_z(core::f64::consts::FRAC_PI_2);
+        let y = r * vec3(1.0, 0.0, 0.0);
+        assert!((y - vec3(0.0, 1.0, 0.0)).norm() < 1e-15);
+        assert!((r.transpose() * r - identity3()).norm() < 1e-15);
+    }
+
+    #[test]
+    fn a_matrix_law_solves_what_it_applies() {
+        let k = Matrix3::new(4.0, 1.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0, 2.0);
+        let v = vec3(1.0, -2.0, 0.5);
+        let back = Linear::<f64, 3>::solve(&k, Linear::<f64, 3>::apply(&k, v));
+        assert!((back - v).norm() < 1e-14);
+        let back = Linear::<f64, 3>::solve_transpose(&k, Linear::<f64, 3>::apply_transpose(&k, v));
+        assert!((back - v).norm() < 1e-14);
+        // A pivot is needed: the first diagonal entry is zero.
+        let p = Matrix3::new(0.0, 2.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 3.0);
+        assert!((Linear::<f64, 3>::apply(&p, Linear::<f64, 3>::solve(&p, v)) - v).norm() < 1e-14);
+    }
+
+    #[test]
+    fn a_number_law_scales() {
+        let v = vec3(1.0, 2.0, 3.0);
+        assert_eq!(Linear::<f64, 3>::apply(&2.0, v), vec3(2.0, 4.0, 6.0));
+        assert_eq!(Linear::<f64, 3>::solve(&2.0, v), vec3(0.5, 1.0, 1.5));
+    }
+
+    #[test]
+    fn matrices_are_stored_column_by_column() {
+        let m = Matrix3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0);
+        let mut x = [0.0; 9];
+        m.write(&mut x);
+        assert_eq!(x, [1.0, 4.0, 7.0, 2.0, 5.0, 8.0, 3.0, 6.0, 9.0]);
+        assert_eq!(<Matrix3<f64> as StateValue<f64>>::read(&x), m);
+        assert_eq!(
+            matrix_param::<f64, 3, 3>(&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]]),
+            m
+        );
+    }
+}
