@@ -7,14 +7,14 @@
 //! the user's text.
 
 use proc_macro2::{Span, TokenStream};
-use quote::{format_ident, quote, quote_spanned};
+use quote::{format_ident, quote, quote_spanned, ToTokens};
 use syn::{Expr, ExprLit, Ident, Lit, LitFloat, Visibility};
 
 use crate::causality::{Causality, ElementCausality};
-use crate::equations::{Equations, Rhs};
-use crate::ir::{ElementKind, Graph};
+use crate::equations::{Derivative, Equations, Op, Rhs};
+use crate::ir::{ElementKind, Graph, Shape};
 use crate::rewrite::term_tokens;
-use crate::signals::Term;
+use crate::signals::{Signal, Term};
 
 /// The generated items of a model that compiled.
 pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> TokenStream {
@@ -26,6 +26,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         .map(|p| ParamDecl {
             attrs: &p.attrs,
             name: &p.name,
+            shape: p.shape,
             default: &p.default,
         })
         .collect();
@@ -34,18 +35,21 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let state_names: Vec<String> = equations
         .states
         .iter()
-        .map(|s| format!("{}.{}", graph.element(s.element).name, s.var))
+        .flat_map(|s| component_names(&s.name, s.shape))
         .collect();
-    let output_names: Vec<String> = graph.outputs.iter().map(|o| o.name.to_string()).collect();
+    let output_shapes = output_shapes(graph, equations);
+    let output_names: Vec<String> = graph
+        .outputs
+        .iter()
+        .zip(&output_shapes)
+        .flat_map(|(o, &shape)| component_names(&o.name.to_string(), shape))
+        .collect();
     let n_states = state_names.len();
     let n_outputs = output_names.len();
-    let state_fields: Vec<Ident> = equations
-        .states
-        .iter()
-        .map(|s| format_ident!("{}_{}", graph.element(s.element).name, s.var))
-        .collect();
+    let field = |n: &String| format_ident!("{}", n.replace('.', "_"));
+    let state_fields: Vec<Ident> = state_names.iter().map(field).collect();
     let state_docs: Vec<String> = state_names.iter().map(|n| format!("`{n}`")).collect();
-    let output_fields: Vec<&Ident> = graph.outputs.iter().map(|o| &o.name).collect();
+    let output_fields: Vec<Ident> = output_names.iter().map(field).collect();
     let state_struct = format_ident!("{}State", name);
     let outputs_struct = format_ident!("{}Outputs", name);
     let record_struct_state = record_struct(
@@ -58,7 +62,11 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let output_docs: Vec<String> = graph
         .outputs
         .iter()
-        .map(|o| doc_text(&o.attrs).unwrap_or_else(|| format!("Output `{}`.", o.name)))
+        .zip(&output_shapes)
+        .flat_map(|(o, &shape)| {
+            let doc = doc_text(&o.attrs).unwrap_or_else(|| format!("Output `{}`.", o.name));
+            std::iter::repeat_n(doc, shape.len())
+        })
         .collect();
     let record_struct_outputs = record_struct(
         vis,
@@ -69,22 +77,31 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     );
     let graph_const = graph_description(graph, causality);
     let body = evaluation_body(graph, equations);
+    let scalar = quote!(Scalar);
+    let state_offsets = equations.offsets();
+    let dx = Ident::new("__dx", Span::call_site());
     let derivatives: Vec<TokenStream> = equations
         .states
         .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let value = term_tokens(s.derivative, Span::call_site());
-            quote!(__dx[#i] = #value;)
+        .zip(&state_offsets)
+        .map(|(s, &offset)| {
+            let value = match &s.derivative {
+                Derivative::Term(term) => term_tokens(*term, Span::call_site()),
+                Derivative::Expr(der) => der.expr.to_token_stream(),
+            };
+            write_value(s.shape, value, &dx, offset, &scalar)
         })
         .collect();
+    let y = Ident::new("__y", Span::call_site());
+    let mut output_offset = 0;
     let outputs: Vec<TokenStream> = equations
         .outputs
         .iter()
-        .enumerate()
-        .map(|(i, o)| {
-            let expr = &o.expr;
-            quote!(__y[#i] = #expr;)
+        .zip(&output_shapes)
+        .map(|(o, &shape)| {
+            let write = write_value(shape, o.expr.to_token_stream(), &y, output_offset, &scalar);
+            output_offset += shape.len();
+            write
         })
         .collect();
     let initial = initial_state(graph, equations);
@@ -92,7 +109,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         .jacobian_sparsity()
         .into_iter()
         .map(|row| quote!(&[#(#row),*]));
-    let param_names: Vec<&Ident> = graph.params.iter().map(|p| &p.name).collect();
+    let params_f64 = bind_params(graph, &quote!(::core::primitive::f64));
     let model_doc = if graph.attrs.iter().any(|a| a.path().is_ident("doc")) {
         quote!()
     } else {
@@ -144,7 +161,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             #[allow(unused_variables, clippy::all)]
             fn initial_state(&self, __x0: &mut [::core::primitive::f64]) {
                 ::core::assert_eq!(__x0.len(), #n_states, "state vector length");
-                #( let #param_names: ::core::primitive::f64 = self.params.#param_names; )*
+                #params_f64
                 #initial
             }
 
@@ -189,6 +206,7 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             crate::syntax::Stmt::Param(p) if seen.insert(p.name.to_string()) => Some(ParamDecl {
                 attrs: &p.attrs,
                 name: &p.name,
+                shape: p.shape,
                 default: &p.default,
             }),
             _ => None,
@@ -291,6 +309,8 @@ pub struct ParamDecl<'a> {
     pub attrs: &'a [syn::Attribute],
     /// The name.
     pub name: &'a Ident,
+    /// Its shape.
+    pub shape: Shape,
     /// The default value.
     pub default: &'a Expr,
 }
@@ -308,9 +328,11 @@ fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> Token
         } else {
             format!("Parameter `{name}`; default `{default_text}`.")
         };
-        quote!(#(#attrs)* #[doc = #doc] pub #name: ::core::primitive::f64,)
+        let ty = param_field_type(p.shape);
+        quote!(#(#attrs)* #[doc = #doc] pub #name: #ty,)
     });
     let names: Vec<&Ident> = params.iter().map(|p| p.name).collect();
+    let types: Vec<TokenStream> = params.iter().map(|p| param_field_type(p.shape)).collect();
     let defaults = params.iter().map(|p| f64_expr(p.default));
     quote! {
         #[doc = #doc]
@@ -330,7 +352,7 @@ fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> Token
         impl ::core::default::Default for #ident {
             #[allow(clippy::all)]
             fn default() -> Self {
-                #( let #names: ::core::primitive::f64 = #defaults; )*
+                #( let #names: #types = #defaults; )*
                 Self { #(#names),* }
             }
         }
@@ -383,70 +405,199 @@ fn record_struct(
 }
 
 fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
-    let assignments = equations.states.iter().enumerate().map(|(i, state)| {
-        match graph
-            .inits
-            .iter()
-            .find(|init| init.element == state.element)
-        {
-            Some(init) => {
-                let value = f64_expr(&init.value);
-                quote!(__x0[#i] = #value;)
-            }
-            None => quote!(__x0[#i] = 0.0;),
-        }
-    });
+    let f64_type = quote!(::core::primitive::f64);
+    let x0 = Ident::new("__x0", Span::call_site());
+    let assignments = equations
+        .states
+        .iter()
+        .zip(equations.offsets())
+        .map(|(state, offset)| {
+            let declared = match (state.element, state.kinematic) {
+                (Some(element), _) => graph
+                    .inits
+                    .iter()
+                    .find(|init| init.element == element)
+                    .map(|init| &init.value),
+                (None, Some(k)) => Some(&graph.kinematics[k].init),
+                (None, None) => None,
+            };
+            let ty = value_type(state.shape, &f64_type);
+            let value = match declared {
+                Some(value) if state.shape == Shape::Scalar => f64_expr(value),
+                // `[f64; 3]` or an nalgebra value, for a vector or a matrix.
+                Some(value) => {
+                    let value = f64_expr(value);
+                    quote!({ let __value: #ty = ::core::convert::From::from(#value); __value })
+                }
+                None => zero(state.shape, &f64_type),
+            };
+            write_value(state.shape, value, &x0, offset, &f64_type)
+        });
     quote!(#(#assignments)*)
+}
+
+/// Binds each parameter by name, converted to `scalar` (`f64` or the model's scalar
+/// type): a number, an nalgebra vector or a matrix.
+fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
+    let binds = graph.params.iter().map(|p| {
+        let name = &p.name;
+        let ty = value_type(p.shape, scalar);
+        let value = match p.shape {
+            Shape::Scalar => {
+                quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(self.params.#name))
+            }
+            Shape::Vector(_) => {
+                quote!(::bgdsl_runtime::multibond::vector_param(&self.params.#name))
+            }
+            Shape::Matrix(..) => {
+                quote!(::bgdsl_runtime::multibond::matrix_param(&self.params.#name))
+            }
+        };
+        quote!(let #name: #ty = #value;)
+    });
+    quote!(#(#binds)*)
+}
+
+/// The Rust type of a value of `shape` with entries of type `scalar`.
+fn value_type(shape: Shape, scalar: &TokenStream) -> TokenStream {
+    match shape {
+        Shape::Scalar => scalar.clone(),
+        Shape::Vector(n) => quote!(::bgdsl_runtime::multibond::SVector<#scalar, #n>),
+        Shape::Matrix(r, c) => quote!(::bgdsl_runtime::multibond::SMatrix<#scalar, #r, #c>),
+    }
+}
+
+/// The field type of a parameter in the parameter struct: plain arrays, rows first.
+fn param_field_type(shape: Shape) -> TokenStream {
+    match shape {
+        Shape::Scalar => quote!(::core::primitive::f64),
+        Shape::Vector(n) => quote!([::core::primitive::f64; #n]),
+        Shape::Matrix(r, c) => quote!([[::core::primitive::f64; #c]; #r]),
+    }
+}
+
+/// A zero of `shape`.
+fn zero(shape: Shape, scalar: &TokenStream) -> TokenStream {
+    match shape {
+        Shape::Scalar => quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(0.0)),
+        _ => {
+            let ty = value_type(shape, scalar);
+            quote!(<#ty>::zeros())
+        }
+    }
+}
+
+/// Writes `value` (of `shape`) into `target[offset..]`, matrices column by column.
+fn write_value(
+    shape: Shape,
+    value: TokenStream,
+    target: &Ident,
+    offset: usize,
+    scalar: &TokenStream,
+) -> TokenStream {
+    match shape {
+        Shape::Scalar => quote!(#target[#offset] = #value;),
+        _ => {
+            let ty = value_type(shape, scalar);
+            let end = offset + shape.len();
+            quote! {
+                let __value: #ty = #value;
+                ::bgdsl_runtime::multibond::StateValue::write(&__value, &mut #target[#offset..#end]);
+            }
+        }
+    }
+}
+
+/// The names of a value's entries: the name itself for a number, `_x`, `_y`, `_z` for
+/// a 3-vector (`_1` ... `_n` otherwise), `_rc` for a matrix, column by column (the
+/// order nalgebra stores them in, and the order of the paper's results file).
+fn component_names(base: &str, shape: Shape) -> Vec<String> {
+    match shape {
+        Shape::Scalar => vec![base.to_string()],
+        Shape::Vector(3) => ["x", "y", "z"]
+            .iter()
+            .map(|c| format!("{base}_{c}"))
+            .collect(),
+        Shape::Vector(n) => (1..=n).map(|i| format!("{base}_{i}")).collect(),
+        Shape::Matrix(r, c) => (1..=c)
+            .flat_map(|col| (1..=r).map(move |row| format!("{base}_{row}{col}")))
+            .collect(),
+    }
+}
+
+/// Each output's shape: as declared, else a plain signal reference's, else a number.
+fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
+    graph
+        .outputs
+        .iter()
+        .zip(&equations.outputs)
+        .map(
+            |(output, rewritten)| match (output.shape, &output.expr, rewritten.deps.as_slice()) {
+                (Some(shape), _, _) => shape,
+                (None, Expr::Field(_), [signal]) => equations.shape_of(graph, *signal),
+                _ => Shape::Scalar,
+            },
+        )
+        .collect()
 }
 
 /// Binds time, parameters and states, then computes every bond variable in order.
 fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
-    let scalar = quote!(<Scalar as ::bgdsl_runtime::Scalar>);
+    let scalar = quote!(Scalar);
     let time = Ident::new("t", Span::call_site());
-    let params = graph.params.iter().map(|p| {
-        let name = &p.name;
-        quote!(let #name: Scalar = #scalar::from_f64(self.params.#name);)
-    });
-    let states = (0..equations.states.len()).map(|i| {
-        let ident = crate::signals::Signal::State(i).ident(Span::call_site());
-        quote!(let #ident: Scalar = __x[#i];)
+    let params = bind_params(graph, &scalar);
+    let states = equations.states.iter().zip(equations.offsets()).enumerate().map(|(i, (state, offset))| {
+        let ident = Signal::State(i).ident(Span::call_site());
+        let ty = value_type(state.shape, &scalar);
+        match state.shape {
+            Shape::Scalar => quote!(let #ident: Scalar = __x[#offset];),
+            shape => {
+                let end = offset + shape.len();
+                quote!(let #ident: #ty = <#ty as ::bgdsl_runtime::multibond::StateValue<Scalar>>::read(&__x[#offset..#end]);)
+            }
+        }
     });
     let assignments = equations.ordered.iter().map(|eq| {
         let span = graph.element(eq.element).name.span();
         let target = eq.defines.ident(span);
+        let shape = equations.shape_of(graph, eq.defines);
+        let ty = value_type(shape, &scalar);
         let value = match &eq.rhs {
-            Rhs::Law {
-                negate,
-                bindings,
-                expr,
-            } => {
+            Rhs::Law { negate, bindings, expr } => {
                 let binds = bindings.iter().map(|(var, term)| {
                     let var = Ident::new(var, Span::call_site());
+                    let bound_type = value_type(equations.shape_of(graph, term.signal), &scalar);
                     let term = term_tokens(*term, span);
-                    quote!(let #var: Scalar = #term;)
+                    quote!(let #var: #bound_type = #term;)
                 });
                 let sign = negate.then(|| quote!(-));
                 quote_spanned!(span=> #sign { #(#binds)* #expr })
             }
+            Rhs::Sum(terms) if terms.is_empty() => zero(shape, &scalar),
             Rhs::Sum(terms) => sum(terms, span),
-            Rhs::Scaled {
-                term,
-                modulus,
-                divide,
-            } => {
+            Rhs::Scaled { term, modulus, op } => {
                 let term = term_tokens(*term, span);
-                if *divide {
-                    quote_spanned!(span=> #term / (#modulus))
-                } else {
-                    quote_spanned!(span=> #term * (#modulus))
+                match (shape, op) {
+                    (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => quote_spanned!(span=> #term * (#modulus)),
+                    (Shape::Scalar, Op::Solve | Op::SolveTranspose) => quote_spanned!(span=> #term / (#modulus)),
+                    (shape, op) => {
+                        let n = shape.len();
+                        let method = match op {
+                            Op::Apply => quote!(apply),
+                            Op::ApplyTranspose => quote!(apply_transpose),
+                            Op::Solve => quote!(solve),
+                            Op::SolveTranspose => quote!(solve_transpose),
+                        };
+                        quote_spanned!(span=> ::bgdsl_runtime::multibond::Linear::<Scalar, #n>::#method(&(#modulus), #term))
+                    }
                 }
             }
         };
-        quote!(let #target: Scalar = #value;)
+        quote!(let #target: #ty = #value;)
     });
     quote! {
-        let #time: Scalar = #scalar::from_f64(__t);
-        #(#params)*
+        let #time: Scalar = <Scalar as ::bgdsl_runtime::Scalar>::from_f64(__t);
+        #params
         #(#states)*
         #(#assignments)*
     }
@@ -463,11 +614,7 @@ fn sum(terms: &[Term], span: Span) -> TokenStream {
             (_, true) => quote!(- #ident),
         });
     }
-    if terms.is_empty() {
-        quote!(<Scalar as ::bgdsl_runtime::Scalar>::from_f64(0.0))
-    } else {
-        tokens
-    }
+    tokens
 }
 
 fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
@@ -505,7 +652,8 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             None => quote!(::core::option::Option::None),
         };
         let (from, to, stroke) = (bond.from.0, bond.to.0, causality.stroke_at[id.0].0);
-        quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: 1, stroke_at: #stroke })
+        let dimension = graph.bond_dims[id.0];
+        quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
     });
     quote! {
         /// The causal bond graph this model was generated from.

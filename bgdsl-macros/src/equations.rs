@@ -13,18 +13,43 @@ use syn::Expr;
 
 use crate::causality::Causality;
 use crate::errors::Errors;
-use crate::ir::{BondId, ElementId, ElementKind, Graph, Law};
+use crate::ir::{BondId, ElementId, ElementKind, Graph, Law, Shape};
 use crate::rewrite::{rewrite, Rewritten, Scope};
 use crate::signals::{Signal, Term};
 
 /// A state of the model: the integral of a storage element's input.
 pub struct State {
-    /// The storage element.
-    pub element: ElementId,
-    /// `q` for a C, `p` for an I.
-    pub var: &'static str,
+    /// `mass.p` for a storage element's state, the name of a kinematic state.
+    pub name: String,
+    /// The storage element, if it is one's state.
+    pub element: Option<ElementId>,
+    /// The kinematic state's index in [`Graph::kinematics`], if it is one.
+    pub kinematic: Option<usize>,
+    /// Its shape: the bond's dimension for storage, the declared one otherwise.
+    pub shape: Shape,
     /// What its time derivative equals.
-    pub derivative: Term,
+    pub derivative: Derivative,
+}
+
+/// The time derivative of a state.
+pub enum Derivative {
+    /// A storage element integrates a bond variable.
+    Term(Term),
+    /// A kinematic state's `der` expression.
+    Expr(Rewritten),
+}
+
+/// How a linear coefficient k acts on the variable it scales.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    /// `k v`
+    Apply,
+    /// `kᵀ v` (a transformer's effort relation)
+    ApplyTranspose,
+    /// `k⁻¹ v`
+    Solve,
+    /// `k⁻ᵀ v`
+    SolveTranspose,
 }
 
 /// The right-hand side of one assignment.
@@ -40,14 +65,15 @@ pub enum Rhs {
     },
     /// A sum of signed terms (junction equations; one term is a copy).
     Sum(Vec<Term>),
-    /// `term * modulus` or `term / modulus` (linear laws, TF, GY).
+    /// A linear law or a two-port: the coefficient applied to a variable (for a scalar
+    /// bond, multiplied or divided).
     Scaled {
         /// The variable scaled.
         term: Term,
         /// The rewritten coefficient expression.
         modulus: Expr,
-        /// Divide instead of multiply (the law used inverted).
-        divide: bool,
+        /// How the coefficient acts.
+        op: Op,
     },
 }
 
@@ -77,22 +103,64 @@ impl Equations {
     /// For each state derivative, the states it depends on (sorted): the structural
     /// sparsity of the Jacobian, followed through every assignment.
     pub fn jacobian_sparsity(&self) -> Vec<Vec<usize>> {
+        let offsets = self.offsets();
+        let blocks = self.state_dependencies();
+        let mut rows = Vec::new();
+        for (i, state) in self.states.iter().enumerate() {
+            let columns: Vec<usize> = blocks[i]
+                .iter()
+                .flat_map(|&j| offsets[j]..offsets[j] + self.states[j].shape.len())
+                .collect();
+            rows.extend(std::iter::repeat_n(columns, state.shape.len()));
+        }
+        rows
+    }
+
+    /// For each state, the states its derivative reads (sorted), followed through every
+    /// assignment.
+    pub fn state_dependencies(&self) -> Vec<Vec<usize>> {
         let mut reads: BTreeMap<Signal, Vec<usize>> = BTreeMap::new();
         let states_of = |signal: Signal, reads: &BTreeMap<Signal, Vec<usize>>| match signal {
             Signal::State(i) => vec![i],
             other => reads.get(&other).cloned().unwrap_or_default(),
         };
-        for eq in &self.ordered {
-            let mut states: Vec<usize> =
-                eq.deps.iter().flat_map(|&d| states_of(d, &reads)).collect();
+        let union = |deps: &[Signal], reads: &BTreeMap<Signal, Vec<usize>>| {
+            let mut states: Vec<usize> = deps.iter().flat_map(|&d| states_of(d, reads)).collect();
             states.sort_unstable();
             states.dedup();
+            states
+        };
+        for eq in &self.ordered {
+            let states = union(&eq.deps, &reads);
             reads.insert(eq.defines, states);
         }
         self.states
             .iter()
-            .map(|s| states_of(s.derivative.signal, &reads))
+            .map(|s| match &s.derivative {
+                Derivative::Term(term) => states_of(term.signal, &reads),
+                Derivative::Expr(expr) => union(&expr.deps, &reads),
+            })
             .collect()
+    }
+
+    /// Where each state starts in the state vector.
+    pub fn offsets(&self) -> Vec<usize> {
+        self.states
+            .iter()
+            .scan(0, |next, state| {
+                let at = *next;
+                *next += state.shape.len();
+                Some(at)
+            })
+            .collect()
+    }
+
+    /// The shape of a signal: a bond's dimension, or a state's shape.
+    pub fn shape_of(&self, graph: &Graph, signal: Signal) -> Shape {
+        match signal {
+            Signal::Effort(b) | Signal::Flow(b) => Shape::of_dimension(graph.bond_dims[b.0]),
+            Signal::State(i) => self.states[i].shape,
+        }
     }
 }
 
@@ -116,15 +184,35 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         };
         state_of[id.0] = Some(states.len());
         states.push(State {
-            element: id,
-            var,
-            derivative,
+            name: format!("{}.{var}", element.name),
+            element: Some(id),
+            kinematic: None,
+            shape: Shape::of_dimension(graph.bond_dims[bond.0]),
+            derivative: Derivative::Term(derivative),
+        });
+    }
+    let kinematic_state: Vec<usize> =
+        (states.len()..states.len() + graph.kinematics.len()).collect();
+    for (k, kinematic) in graph.kinematics.iter().enumerate() {
+        let scope = Scope {
+            graph,
+            state_of: &state_of,
+            kinematic_state: &kinematic_state,
+        };
+        let der = rewrite(&kinematic.der, &scope, &mut errors);
+        states.push(State {
+            name: kinematic.name.to_string(),
+            element: None,
+            kinematic: Some(k),
+            shape: kinematic.shape,
+            derivative: Derivative::Expr(der),
         });
     }
     let mut builder = Builder {
         graph,
         causality,
         state_of: &state_of,
+        kinematic_state: &kinematic_state,
         errors: &mut errors,
         equations: Vec::new(),
     };
@@ -139,6 +227,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
             let scope = Scope {
                 graph,
                 state_of: &state_of,
+                kinematic_state: &kinematic_state,
             };
             rewrite(&output.expr, &scope, &mut errors)
         })
@@ -156,6 +245,7 @@ struct Builder<'a> {
     graph: &'a Graph,
     causality: &'a Causality,
     state_of: &'a [Option<usize>],
+    kinematic_state: &'a [usize],
     errors: &'a mut Errors,
     equations: Vec<Equation>,
 }
@@ -189,6 +279,7 @@ impl Builder<'_> {
         let scope = Scope {
             graph: self.graph,
             state_of: self.state_of,
+            kinematic_state: self.kinematic_state,
         };
         rewrite(expr, &scope, self.errors)
     }
@@ -212,12 +303,12 @@ impl Builder<'_> {
         self.push(defines, id, rhs, rewritten.deps);
     }
 
-    fn scaled(&mut self, id: ElementId, defines: Signal, term: Term, modulus: &Expr, divide: bool) {
+    fn scaled(&mut self, id: ElementId, defines: Signal, term: Term, modulus: &Expr, op: Op) {
         let rewritten = self.rewrite(modulus);
         let rhs = Rhs::Scaled {
             term,
             modulus: rewritten.expr,
-            divide,
+            op,
         };
         self.push(defines, id, rhs, rewritten.deps);
     }
@@ -258,15 +349,45 @@ impl Builder<'_> {
                     Signal::Effort(b2),
                     Signal::Flow(b2),
                 );
-                // TF: e1 = n e2, f2 = n f1.  GY: e1 = r f2, e2 = r f1.
+                // TF: e1 = nᵀ e2, f2 = n f1.  GY: e1 = rᵀ f2, e2 = r f1. (For scalar
+                // bonds the transposes are the numbers themselves.)
+                use Op::*;
                 let plan = match (element.kind, receives_e1) {
-                    (ElementKind::Tf, true) => [(e2, e1, true), (f1, f2, false)],
-                    (ElementKind::Tf, false) => [(e1, e2, false), (f2, f1, false)],
-                    (_, true) => [(f2, e1, true), (f1, e2, true)],
-                    (_, false) => [(e1, f2, false), (e2, f1, false)],
+                    (ElementKind::Tf, true) => [(e2, e1, SolveTranspose), (f1, f2, Solve)],
+                    (ElementKind::Tf, false) => [(e1, e2, ApplyTranspose), (f2, f1, Apply)],
+                    (_, true) => [(f2, e1, SolveTranspose), (f1, e2, Solve)],
+                    (_, false) => [(e1, f2, ApplyTranspose), (e2, f1, Apply)],
                 };
-                for (defines, from, divide) in plan {
-                    self.scaled(id, defines, Term::plus(from), modulus, divide);
+                let multibond = graph.bond_dims[b1.0] > 1;
+                let inverts = receives_e1;
+                match (&element.inverse, multibond && inverts) {
+                    // A matrix modulus is inverted only through the inverse the law gives.
+                    (Some(inverse), true) => {
+                        for (defines, from, op) in plan {
+                            let op = if op == Solve { Apply } else { ApplyTranspose };
+                            self.scaled(id, defines, Term::plus(from), inverse, op);
+                        }
+                    }
+                    (None, true) => {
+                        let name = &element.name;
+                        self.errors.at(
+                            name.span(),
+                            format!(
+                                "{} would need the inverse of its modulus: its causality has it \
+                                 receive the effort on port 1, so it must compute port 2's effort and \
+                                 port 1's flow backwards; a matrix modulus has no inverse unless the \
+                                 law gives one (a skew-symmetric one, like a lever arm's, has none): \
+                                 give it as `MTF {name} = M, inverse = ...;` or change the causality \
+                                 around it (e.g. a compliance at port 2)",
+                                graph.describe(id)
+                            ),
+                        );
+                    }
+                    _ => {
+                        for (defines, from, op) in plan {
+                            self.scaled(id, defines, Term::plus(from), modulus, op);
+                        }
+                    }
                 }
             }
             ElementKind::Zero | ElementKind::One => self.junction(id),
@@ -282,7 +403,7 @@ impl Builder<'_> {
         let state = self.state_of[id.0].map(Signal::State);
         match (element.kind, &element.law, state) {
             (ElementKind::C, Law::Linear(k), Some(q)) => {
-                self.scaled(id, e, Term::plus(q), k, false)
+                self.scaled(id, e, Term::plus(q), k, Op::Apply)
             }
             (
                 ElementKind::C,
@@ -292,7 +413,7 @@ impl Builder<'_> {
                 Some(q),
             ) => self.law(id, e, false, "q", Term::plus(q), law),
             (ElementKind::I, Law::Linear(m), Some(p)) => {
-                self.scaled(id, f, Term::signed(negate, p), m, true)
+                self.scaled(id, f, Term::signed(negate, p), m, Op::Solve)
             }
             (
                 ElementKind::I,
@@ -304,8 +425,12 @@ impl Builder<'_> {
             (ElementKind::R, law, _) => {
                 let resistance = self.stroke_at(bond) != id;
                 match (law, resistance) {
-                    (Law::Linear(c), true) => self.scaled(id, e, Term::signed(negate, f), c, false),
-                    (Law::Linear(c), false) => self.scaled(id, f, Term::signed(negate, e), c, true),
+                    (Law::Linear(c), true) => {
+                        self.scaled(id, e, Term::signed(negate, f), c, Op::Apply)
+                    }
+                    (Law::Linear(c), false) => {
+                        self.scaled(id, f, Term::signed(negate, e), c, Op::Solve)
+                    }
                     (
                         Law::Forms {
                             effort: Some(law), ..
@@ -480,6 +605,13 @@ fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
 mod should {
     use super::*;
 
+    fn term(derivative: &Derivative) -> Term {
+        match derivative {
+            Derivative::Term(term) => *term,
+            Derivative::Expr(_) => panic!("a storage state integrates a term"),
+        }
+    }
+
     fn derive_text(text: &str) -> (Graph, syn::Result<Equations>) {
         let file: crate::syntax::File = syn::parse_str(text).unwrap();
         let graph = crate::resolve::resolve(file.models.into_iter().next().unwrap()).unwrap();
@@ -518,11 +650,11 @@ mod should {
         assert_eq!(order.len(), 8);
         // The mass's momentum integrates its effort; the spring's position its flow.
         assert_eq!(
-            eqs.states[0].derivative,
+            term(&eqs.states[0].derivative),
             Term::plus(Signal::Effort(BondId(1)))
         );
         assert_eq!(
-            eqs.states[1].derivative,
+            term(&eqs.states[1].derivative),
             Term::plus(Signal::Flow(BondId(2)))
         );
     }
@@ -558,8 +690,11 @@ mod should {
             "model M { Se s = 1.0; C c = 1.0; 1 v; s -> v; c -> v; I m = 1.0; v -> m; }",
         );
         let eqs = eqs.unwrap();
-        let c = eqs.states.iter().find(|s| s.var == "q").unwrap();
-        assert_eq!(c.derivative, Term::signed(true, Signal::Flow(BondId(1))));
+        let c = eqs.states.iter().find(|s| s.name.ends_with(".q")).unwrap();
+        assert_eq!(
+            term(&c.derivative),
+            Term::signed(true, Signal::Flow(BondId(1)))
+        );
     }
 
     #[test]
@@ -571,7 +706,7 @@ mod should {
             .iter()
             .find(|eq| eq.defines == Signal::Flow(BondId(3)))
             .unwrap();
-        assert!(matches!(r.rhs, Rhs::Scaled { divide: true, .. }));
+        assert!(matches!(r.rhs, Rhs::Scaled { op: Op::Solve, .. }));
     }
 
     #[test]
@@ -609,7 +744,7 @@ mod should {
                        va -> a; va -> s -> k; s -> vb -> { b, c }; }",
         );
         assert_eq!(
-            eqs.unwrap().jacobian_sparsity(),
+            eqs.unwrap().state_dependencies(),
             [vec![1], vec![0, 2], vec![1, 2]]
         );
     }

@@ -5,7 +5,7 @@
 
 use syn::{Attribute, Expr, Ident, Visibility};
 
-pub use crate::syntax::ElementKind;
+pub use crate::syntax::{ElementKind, Shape};
 
 /// Index of an element in [`Graph::elements`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -33,6 +33,22 @@ pub struct Graph {
     pub inits: Vec<Init>,
     /// Named outputs in declaration order.
     pub outputs: Vec<Output>,
+    /// Kinematic states in declaration order.
+    pub kinematics: Vec<Kinematic>,
+    /// The dimension of each bond (1 for scalar bonds), once inferred.
+    pub bond_dims: Vec<usize>,
+}
+
+/// A kinematic state: integrated, but not the storage of an element.
+pub struct Kinematic {
+    /// Its name.
+    pub name: Ident,
+    /// Its shape.
+    pub shape: Shape,
+    /// The initial value, an expression in parameters.
+    pub init: Expr,
+    /// Its time derivative.
+    pub der: Expr,
 }
 
 /// A parameter: an `f64` field of the generated parameter struct.
@@ -41,6 +57,8 @@ pub struct Param {
     pub attrs: Vec<Attribute>,
     /// Its name.
     pub name: Ident,
+    /// Its shape.
+    pub shape: Shape,
     /// The default value, an expression in earlier parameters.
     pub default: Expr,
 }
@@ -53,6 +71,10 @@ pub struct Element {
     pub kind: ElementKind,
     /// Its constitutive law.
     pub law: Law,
+    /// The dimension declared with `[n]`, and where.
+    pub dimension: Option<(usize, proc_macro2::Span)>,
+    /// A two-port's inverse modulus, if given.
+    pub inverse: Option<Expr>,
     /// Its bonds in the order written. For TF and GY: port 1 (the bond pointing in),
     /// then port 2 (the bond pointing out).
     pub bonds: Vec<BondId>,
@@ -135,6 +157,8 @@ pub struct Output {
     pub attrs: Vec<Attribute>,
     /// The output's name.
     pub name: Ident,
+    /// Its shape, if declared.
+    pub shape: Option<Shape>,
     /// The expression.
     pub expr: Expr,
 }

@@ -10,6 +10,7 @@
 
 mod causality;
 mod codegen;
+mod dims;
 mod equations;
 mod errors;
 mod expand;

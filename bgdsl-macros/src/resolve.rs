@@ -32,11 +32,15 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
             bonds: Vec::new(),
             inits: Vec::new(),
             outputs: Vec::new(),
+            kinematics: Vec::new(),
+            bond_dims: Vec::new(),
         },
     };
     // Declarations first, so that bonds may name elements declared after them.
     let mut chains = Vec::new();
     let mut inits = Vec::new();
+    let mut states = Vec::new();
+    let mut ders = Vec::new();
     for stmt in model.stmts {
         match stmt {
             Stmt::Param(param) => resolver.declare_param(param),
@@ -44,8 +48,11 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
             Stmt::Output(output) => resolver.declare_output(output),
             Stmt::Bonds(chain) => chains.push(chain),
             Stmt::Init(init) => inits.push(init),
+            Stmt::State(state) => states.push(state),
+            Stmt::Der(der) => ders.push(der),
         }
     }
+    resolver.declare_states(states, ders);
     for chain in chains {
         resolver.connect(chain);
     }
@@ -58,6 +65,9 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
         resolver.initial_condition(init);
     }
     resolver.lint_expressions();
+    if resolver.errors.is_empty() {
+        crate::dims::infer(&mut resolver.graph, &mut resolver.errors);
+    }
     resolver.errors.finish()?;
     Ok(resolver.graph)
 }
@@ -68,6 +78,7 @@ enum Named {
     Param,
     Element(ElementId),
     Bond,
+    State,
 }
 
 struct Resolver {
@@ -114,6 +125,7 @@ impl Resolver {
             self.graph.params.push(Param {
                 attrs: param.attrs,
                 name: param.name,
+                shape: param.shape,
                 default: param.default,
             });
         }
@@ -125,12 +137,64 @@ impl Resolver {
             return;
         }
         let law = self.check_law(decl.kind, &decl.name, decl.law);
+        if decl.inverse.is_some() && !matches!(decl.kind, ElementKind::Tf | ElementKind::Gy) {
+            self.errors
+                .at(decl.name.span(), "only a TF or GY takes an `inverse = ...`");
+        }
         self.graph.elements.push(Element {
             name: decl.name,
             kind: decl.kind,
             law,
+            dimension: decl.dimension,
+            inverse: decl.inverse,
             bonds: Vec::new(),
         });
+    }
+
+    /// Kinematic states and their derivatives: one `der` for each `state`.
+    fn declare_states(
+        &mut self,
+        states: Vec<crate::syntax::StateDecl>,
+        ders: Vec<crate::syntax::DerDecl>,
+    ) {
+        let mut ders: Vec<Option<crate::syntax::DerDecl>> = ders.into_iter().map(Some).collect();
+        for state in states {
+            let position = ders
+                .iter()
+                .position(|d| d.as_ref().is_some_and(|d| d.name == state.name));
+            let der = position.and_then(|i| ders[i].take());
+            if !self.claim(&state.name, Named::State) {
+                continue;
+            }
+            let Some(der) = der else {
+                self.errors.at(
+                    state.name.span(),
+                    format!(
+                        "state `{0}` has no derivative: add `der {0} = ...;`",
+                        state.name
+                    ),
+                );
+                continue;
+            };
+            self.graph.kinematics.push(crate::ir::Kinematic {
+                name: state.name,
+                shape: state.shape,
+                init: state.init,
+                der: der.expr,
+            });
+        }
+        for der in ders.into_iter().flatten() {
+            let twice = self.graph.kinematics.iter().any(|k| k.name == der.name);
+            let message = if twice {
+                format!("`der {}` is given twice", der.name)
+            } else {
+                format!(
+                    "`der {0}` names no state: declare it with `state {0}: Type = initial;`",
+                    der.name
+                )
+            };
+            self.errors.at(der.name.span(), message);
+        }
     }
 
     /// Checks that the law's shape fits the kind; on a mistake records it and returns
@@ -215,6 +279,7 @@ impl Resolver {
         self.graph.outputs.push(Output {
             attrs: output.attrs,
             name: output.name,
+            shape: output.shape,
             expr: output.expr,
         });
     }
@@ -236,6 +301,13 @@ impl Resolver {
                 self.errors.at(
                     name.span(),
                     format!("`{name}` is a bond label, not an element: bonds connect elements"),
+                );
+                None
+            }
+            Some((Named::State, _)) => {
+                self.errors.at(
+                    name.span(),
+                    format!("`{name}` is a state, not an element: bonds connect elements"),
                 );
                 None
             }
@@ -452,6 +524,10 @@ impl Resolver {
         for output in &graph.outputs {
             let context = format!("the output `{}`", output.name);
             lint(&output.expr, &lookup, &[], &context, &mut self.errors);
+        }
+        for state in &graph.kinematics {
+            let context = format!("the derivative of state `{}`", state.name);
+            lint(&state.der, &lookup, &[], &context, &mut self.errors);
         }
     }
 }

@@ -24,6 +24,8 @@ pub struct Scope<'a> {
     pub graph: &'a Graph,
     /// The state index of each storage element.
     pub state_of: &'a [Option<usize>],
+    /// The state index of each kinematic state.
+    pub kinematic_state: &'a [usize],
 }
 
 /// The rewritten expression and the signals it reads.
@@ -382,6 +384,22 @@ impl VisitMut for Rewriter<'_, '_> {
                     int_to_float(&mut binary.right);
                 }
                 syn::visit_mut::visit_expr_binary_mut(self, binary);
+            }
+            Expr::Path(_) => {
+                let Some(name) = as_ident(expr).cloned() else {
+                    return;
+                };
+                if self.locals.contains(&name.to_string()) {
+                    return;
+                }
+                let graph = self.scope.graph;
+                if let Some(k) = graph.kinematics.iter().position(|k| k.name == name) {
+                    let signal = Signal::State(self.scope.kinematic_state[k]);
+                    if !self.deps.contains(&signal) {
+                        self.deps.push(signal);
+                    }
+                    *expr = Expr::Verbatim(term_tokens(Term::plus(signal), name.span()));
+                }
             }
             Expr::Macro(_) => {}
             _ => syn::visit_mut::visit_expr_mut(self, expr),

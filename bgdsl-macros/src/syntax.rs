@@ -14,10 +14,105 @@ pub mod kw {
     syn::custom_keyword!(param);
     syn::custom_keyword!(init);
     syn::custom_keyword!(output);
+    syn::custom_keyword!(state);
+    syn::custom_keyword!(der);
+    syn::custom_keyword!(inverse);
 }
 
 /// Element kinds as written, for parsing and for error messages.
-pub const ELEMENT_KINDS: &str = "Se, Sf, C, I, R, TF, GY, 0, 1";
+pub const ELEMENT_KINDS: &str = "Se, Sf, MSe, MSf, C, I, R, TF, GY, MTF, MGY, 0, 1";
+
+/// The shape of a value: a number, an n-vector, or an r×c matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// `f64`
+    Scalar,
+    /// `[f64; n]`, `Vector3`
+    Vector(usize),
+    /// `[[f64; c]; r]` (rows first), `Matrix3`
+    Matrix(usize, usize),
+}
+
+impl Shape {
+    /// How many numbers it holds.
+    pub fn len(self) -> usize {
+        match self {
+            Shape::Scalar => 1,
+            Shape::Vector(n) => n,
+            Shape::Matrix(r, c) => r * c,
+        }
+    }
+
+    /// The shape of an n-dimensional bond variable.
+    pub fn of_dimension(n: usize) -> Self {
+        if n == 1 {
+            Shape::Scalar
+        } else {
+            Shape::Vector(n)
+        }
+    }
+}
+
+/// `: Type` after a name: `f64`, `Vector3`, `Matrix3`, `[f64; N]` or `[[f64; C]; R]`.
+fn parse_shape(input: ParseStream) -> syn::Result<Shape> {
+    let ty: syn::Type = input.parse()?;
+    shape_of(&ty).ok_or_else(|| {
+        syn::Error::new_spanned(
+            &ty,
+            "expected a value type: `f64`, `Vector3`, `Matrix3`, `[f64; N]` or `[[f64; C]; R]`",
+        )
+    })
+}
+
+fn shape_of(ty: &syn::Type) -> Option<Shape> {
+    let length = |len: &Expr| match len {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(n),
+            ..
+        }) => n.base10_parse::<usize>().ok().filter(|&n| n > 0),
+        _ => None,
+    };
+    match ty {
+        syn::Type::Path(path) if path.path.is_ident("f64") => Some(Shape::Scalar),
+        syn::Type::Path(path) if path.path.is_ident("Vector3") => Some(Shape::Vector(3)),
+        syn::Type::Path(path) if path.path.is_ident("Matrix3") => Some(Shape::Matrix(3, 3)),
+        syn::Type::Array(array) => match (shape_of(&array.elem)?, length(&array.len)?) {
+            (Shape::Scalar, n) => Some(Shape::Vector(n)),
+            (Shape::Vector(c), r) => Some(Shape::Matrix(r, c)),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn optional_shape(input: ParseStream) -> syn::Result<Option<Shape>> {
+    if input.peek(Token![:]) {
+        input.parse::<Token![:]>()?;
+        parse_shape(input).map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
+/// `[n]` after an element kind: the dimension of its bonds.
+fn optional_dimension(input: ParseStream) -> syn::Result<Option<(usize, Span)>> {
+    if !input.peek(syn::token::Bracket) {
+        return Ok(None);
+    }
+    let inner;
+    bracketed!(inner in input);
+    parse_group(&inner, |inner| {
+        let n: LitInt = inner.parse()?;
+        let value: usize = n.base10_parse()?;
+        if value == 0 || !inner.is_empty() {
+            return Err(syn::Error::new(
+                n.span(),
+                "a dimension is a positive number: `I[3] body = m;`",
+            ));
+        }
+        Ok(Some((value, n.span())))
+    })
+}
 
 /// Everything in one `bond_graph! { ... }` invocation: one or more models.
 pub struct File {
@@ -55,6 +150,28 @@ pub enum Stmt {
     Init(InitDecl),
     /// `output x = spring.q;`
     Output(OutputDecl),
+    /// `state R: Matrix3 = rot_z(theta0);`
+    State(StateDecl),
+    /// `der R = skew(w.f) * R;`
+    Der(DerDecl),
+}
+
+/// A kinematic state: integrated, but not the storage of a bond-graph element.
+pub struct StateDecl {
+    /// The state's name.
+    pub name: Ident,
+    /// Its shape.
+    pub shape: Shape,
+    /// The initial value, an expression in parameters.
+    pub init: Expr,
+}
+
+/// The time derivative of a kinematic state.
+pub struct DerDecl {
+    /// The state.
+    pub name: Ident,
+    /// dx/dt, an expression in signals, states, parameters and `t`.
+    pub expr: Expr,
 }
 
 /// A parameter with its default value.
@@ -63,6 +180,8 @@ pub struct ParamDecl {
     pub attrs: Vec<Attribute>,
     /// The parameter's name.
     pub name: Ident,
+    /// Its shape (`f64` unless declared).
+    pub shape: Shape,
     /// The default, an expression in earlier parameters.
     pub default: Expr,
 }
@@ -91,15 +210,17 @@ pub enum ElementKind {
 }
 
 impl ElementKind {
+    /// The kind a word names. The modulated forms (MSe, MSf, MTF, MGY) are the same
+    /// kinds: any law may depend on signals, states and time.
     fn from_word(word: &str) -> Option<Self> {
         Some(match word {
-            "Se" => ElementKind::Se,
-            "Sf" => ElementKind::Sf,
+            "Se" | "MSe" => ElementKind::Se,
+            "Sf" | "MSf" => ElementKind::Sf,
             "C" => ElementKind::C,
             "I" => ElementKind::I,
             "R" => ElementKind::R,
-            "TF" => ElementKind::Tf,
-            "GY" => ElementKind::Gy,
+            "TF" | "MTF" => ElementKind::Tf,
+            "GY" | "MGY" => ElementKind::Gy,
             _ => return None,
         })
     }
@@ -140,10 +261,15 @@ impl ElementKind {
 pub struct ElementDecl {
     /// The kind.
     pub kind: ElementKind,
+    /// The dimension declared with `[n]`, and where.
+    pub dimension: Option<(usize, Span)>,
     /// The element's name.
     pub name: Ident,
     /// Its constitutive law as written.
     pub law: LawSyntax,
+    /// A two-port's `inverse = expr`: the inverse of its modulus, for the causality
+    /// that needs it.
+    pub inverse: Option<Expr>,
 }
 
 /// A constitutive law as written.
@@ -215,6 +341,8 @@ pub struct OutputDecl {
     pub attrs: Vec<Attribute>,
     /// The output's name.
     pub name: Ident,
+    /// Its shape, if declared (a vector output gives one column per component).
+    pub shape: Option<Shape>,
     /// The expression, in signals, parameters and `t`.
     pub expr: Expr,
 }
@@ -328,13 +456,31 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
     let stmt = if lookahead.peek(kw::param) {
         input.parse::<kw::param>()?;
         let name = input.parse()?;
+        let shape = optional_shape(input)?.unwrap_or(Shape::Scalar);
         input.parse::<Token![=]>()?;
         let default = input.parse()?;
         Stmt::Param(ParamDecl {
             attrs,
             name,
+            shape,
             default,
         })
+    } else if lookahead.peek(kw::state) {
+        no_attrs(&attrs, "a `state` statement")?;
+        input.parse::<kw::state>()?;
+        let name = input.parse()?;
+        input.parse::<Token![:]>()?;
+        let shape = parse_shape(input)?;
+        input.parse::<Token![=]>()?;
+        let init = input.parse()?;
+        Stmt::State(StateDecl { name, shape, init })
+    } else if lookahead.peek(kw::der) {
+        no_attrs(&attrs, "a `der` statement")?;
+        input.parse::<kw::der>()?;
+        let name = input.parse()?;
+        input.parse::<Token![=]>()?;
+        let expr = input.parse()?;
+        Stmt::Der(DerDecl { name, expr })
     } else if lookahead.peek(kw::init) {
         no_attrs(&attrs, "an `init` statement")?;
         input.parse::<kw::init>()?;
@@ -351,13 +497,19 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
     } else if lookahead.peek(kw::output) {
         input.parse::<kw::output>()?;
         let name = input.parse()?;
+        let shape = optional_shape(input)?;
         input.parse::<Token![=]>()?;
         let expr = input.parse()?;
-        Stmt::Output(OutputDecl { attrs, name, expr })
+        Stmt::Output(OutputDecl {
+            attrs,
+            name,
+            shape,
+            expr,
+        })
     } else if lookahead.peek(LitInt) {
         Stmt::Element(parse_junction(input, recovered)?)
     } else if lookahead.peek(Ident) {
-        if input.peek2(Ident) {
+        if input.peek2(Ident) || input.peek2(syn::token::Bracket) {
             Stmt::Element(parse_element(input)?)
         } else {
             no_attrs(&attrs, "a bond statement")?;
@@ -398,6 +550,7 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
             ))
         }
     };
+    let dimension = optional_dimension(input)?;
     let name = input.parse()?;
     if input.peek(Token![=]) || input.peek(syn::token::Brace) {
         // A mistake the parser can step over: report it, skip the law, keep the junction.
@@ -420,8 +573,10 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
     }
     Ok(ElementDecl {
         kind,
+        dimension,
         name,
         law: LawSyntax::None,
+        inverse: None,
     })
 }
 
@@ -432,14 +587,23 @@ fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
             word.span(),
             format!(
                 "unknown element kind `{word}`: expected one of {ELEMENT_KINDS}, \
-                 or a statement (`param`, `init`, `output`, or a bond `a -> b`)"
+                 or a statement (`param`, `state`, `der`, `init`, `output`, or a bond `a -> b`)"
             ),
         ));
     };
+    let dimension = optional_dimension(input)?;
     let name: Ident = input.parse()?;
+    let mut inverse = None;
     let law = if input.peek(Token![=]) {
         input.parse::<Token![=]>()?;
-        LawSyntax::Linear(Expr::parse_without_eager_brace(input)?)
+        let law = LawSyntax::Linear(Expr::parse_without_eager_brace(input)?);
+        if matches!(kind, ElementKind::Tf | ElementKind::Gy) && input.peek(Token![,]) {
+            input.parse::<Token![,]>()?;
+            input.parse::<kw::inverse>()?;
+            input.parse::<Token![=]>()?;
+            inverse = Some(input.parse()?);
+        }
+        law
     } else if input.peek(syn::token::Brace) {
         let body;
         braced!(body in input);
@@ -467,7 +631,13 @@ fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
     } else {
         LawSyntax::None
     };
-    Ok(ElementDecl { kind, name, law })
+    Ok(ElementDecl {
+        kind,
+        dimension,
+        name,
+        law,
+        inverse,
+    })
 }
 
 impl Parse for BondChain {

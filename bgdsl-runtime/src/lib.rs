@@ -9,6 +9,7 @@
 // Generated code names this crate `::bgdsl_runtime`; this makes that work inside it too.
 extern crate self as bgdsl_runtime;
 
+pub mod dot;
 pub mod dual;
 pub mod error;
 pub mod graph;
@@ -21,6 +22,7 @@ pub mod scalar;
 pub mod solver;
 
 pub use bgdsl_macros::bond_graph;
+pub use dot::Dot;
 pub use dual::Dual;
 pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};

@@ -21,6 +21,8 @@ fn ui() {
     cases.compile_fail("ui/multiple/*.rs");
     // A broken model next to user code that names it: only the model's own errors.
     cases.compile_fail("ui/stub/*.rs");
+    // Multibonds: dimensions, modulated transformers, kinematic states.
+    cases.compile_fail("ui/multibond/*.rs");
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }

@@ -82,6 +82,8 @@ fn build(recipe: &Recipe) -> Graph {
         bonds: Vec::new(),
         inits: Vec::new(),
         outputs: Vec::new(),
+        kinematics: Vec::new(),
+        bond_dims: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());
@@ -90,6 +92,8 @@ fn build(recipe: &Recipe) -> Graph {
             name,
             kind,
             law,
+            dimension: None,
+            inverse: None,
             bonds: Vec::new(),
         });
         id
@@ -162,6 +166,7 @@ fn build(recipe: &Recipe) -> Graph {
             connect(&mut graph, junction, r);
         }
     }
+    graph.bond_dims = vec![1; graph.bonds.len()];
     graph
 }
 

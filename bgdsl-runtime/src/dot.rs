@@ -1,0 +1,322 @@
+//! Graphviz DOT export of a [`CausalGraph`], drawn the way bond graphs are drawn.
+//!
+//! ```
+//! # use bgdsl_runtime::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
+//! # const GRAPH: CausalGraph = CausalGraph {
+//! #     model: "Push",
+//! #     elements: &[
+//! #         GraphElement { name: "force", group: "", kind: ElementKind::Se, causality: ElementCausality::Fixed },
+//! #         GraphElement { name: "mass", group: "", kind: ElementKind::I, causality: ElementCausality::Integral },
+//! #     ],
+//! #     bonds: &[GraphBond { label: None, from: 0, to: 1, dimension: 1, stroke_at: 1 }],
+//! # };
+//! let dot = GRAPH.to_dot(); // or `write!(file, "{}", GRAPH.dot())`
+//! assert!(dot.contains(r#"e0 -> e1 [arrowhead="teelvee", arrowtail="none"];"#));
+//! // `dot -Tsvg model.dot -o model.svg` draws it.
+//! ```
+//!
+//! # Conventions
+//!
+//! - **Elements** are plain text, no box: `Se : supply`, `C : spring`, `TF : gear`.
+//!   Junctions are their symbol, `0` or `1`, with their name in small type underneath.
+//!   Nodes are named `e<index>` after their index in [`CausalGraph::elements`].
+//! - **Bonds** are edges `from -> to` with `dir=both`, so both ends carry a symbol:
+//!   - the **half arrow** (power direction) is at the `to` end: arrowhead `lvee`, a
+//!     barb on the left of the direction of travel, as in `⇀` (barb up on a bond
+//!     drawn rightwards, on the right of a bond drawn downwards, as in `⇂`);
+//!   - the **causal stroke** is a `tee`, at the [`stroke_at`](crate::GraphBond::stroke_at)
+//!     end: at the head it joins the half arrow, `arrowhead="teelvee"` (the stroke
+//!     outermost, the arrow's tip against it); at the tail it is `arrowtail="tee"`
+//!     (and the head is a bare `lvee`).
+//!
+//!   A bond whose `stroke_at` is neither of its ends gets no stroke, and a DOT comment
+//!   says so.
+//! - **Multibonds** (any dimension but 1) are drawn as a double line,
+//!   `color="black:black"` (Graphviz draws one line per colour, 2 points apart; a third,
+//!   invisible colour would also hide the tail's stroke, which Graphviz draws in the
+//!   second colour), with their dimension as the edge label.
+//! - A bond's **label**, when it has one, is the edge label (above the dimension of a
+//!   multibond).
+//! - **Submodel instances**: elements with a non-empty `group` sit in
+//!   `subgraph cluster_<path>` (every character other than an ASCII letter, digit or `_`
+//!   replaced by `_`, a numeric suffix when two paths would collide), labelled with the
+//!   group path; `crank.A1` is a cluster inside `crank`'s, which exists even when no
+//!   element sits directly in `crank`.
+//! - Names, labels and paths are escaped for DOT (`"` and `\`, line breaks as `\n`) and,
+//!   inside the junctions' HTML-like labels, for HTML.
+//! - The output is deterministic: elements in declaration order within their cluster,
+//!   clusters in the order their first element was declared, bonds in declaration order.
+
+use core::fmt::{self, Display, Write};
+
+use crate::graph::{CausalGraph, ElementCausality, ElementKind, GraphElement};
+
+impl CausalGraph {
+    /// The graph as a self-contained Graphviz DOT `digraph` (see [the module
+    /// documentation](crate::dot) for how it is drawn).
+    pub fn to_dot(&self) -> String {
+        self.dot().to_string()
+    }
+
+    /// The graph in Graphviz DOT, as a value to format (`write!(out, "{}", graph.dot())`)
+    /// without building a `String` first.
+    pub fn dot(&self) -> Dot<'_> {
+        Dot { graph: self }
+    }
+}
+
+/// A [`CausalGraph`] formatted as Graphviz DOT; made by [`CausalGraph::dot`].
+#[derive(Clone, Copy, Debug)]
+pub struct Dot<'a> {
+    graph: &'a CausalGraph,
+}
+
+impl Display for Dot<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let graph = self.graph;
+        writeln!(f, "digraph {} {{", quoted(graph.model))?;
+        writeln!(
+            f,
+            "  graph [label={}, labelloc=t, fontsize=16];",
+            quoted(graph.model)
+        )?;
+        writeln!(f, "  node [shape=plaintext, fontsize=14];")?;
+        writeln!(
+            f,
+            "  edge [dir=both, arrowhead=lvee, arrowtail=none, fontsize=10];"
+        )?;
+        let tree = Tree::new(graph.elements);
+        tree.write(f, graph.elements, 0, 1)?;
+        for (index, bond) in graph.bonds.iter().enumerate() {
+            let ends = graph.elements.len();
+            if bond.from >= ends || bond.to >= ends {
+                writeln!(
+                    f,
+                    "  // bond {index} ({} -> {}) joins a missing element; not drawn",
+                    bond.from, bond.to
+                )?;
+                continue;
+            }
+            let (arrowhead, arrowtail) = if bond.stroke_at == bond.to {
+                ("teelvee", "none")
+            } else if bond.stroke_at == bond.from {
+                ("lvee", "tee")
+            } else {
+                writeln!(
+                    f,
+                    "  // bond {index}: stroke_at {} is neither of its ends; no stroke drawn",
+                    bond.stroke_at
+                )?;
+                ("lvee", "none")
+            };
+            write!(
+                f,
+                "  e{} -> e{} [arrowhead=\"{arrowhead}\", arrowtail=\"{arrowtail}\"",
+                bond.from, bond.to
+            )?;
+            let mut label = bond.label.map(str::to_owned);
+            if bond.dimension != 1 {
+                f.write_str(", color=\"black:black\"")?;
+                let dimension = bond.dimension.to_string();
+                label = Some(match label {
+                    Some(label) => format!("{label}\n{dimension}"),
+                    None => dimension,
+                });
+            }
+            if let Some(label) = label {
+                write!(f, ", label={}", quoted(&label))?;
+            }
+            f.write_str("];\n")?;
+        }
+        f.write_str("}\n")
+    }
+}
+
+/// The submodel instances as a tree of clusters; cluster 0 is the top level.
+struct Tree<'g> {
+    clusters: Vec<Cluster<'g>>,
+}
+
+struct Cluster<'g> {
+    /// The group path (empty for the top level).
+    path: &'g str,
+    /// The DOT identifier, `cluster_...` (empty for the top level).
+    id: String,
+    /// Indices of the elements directly in this group, in declaration order.
+    elements: Vec<usize>,
+    /// Indices of the clusters nested directly in this one, in order of appearance.
+    children: Vec<usize>,
+}
+
+impl<'g> Tree<'g> {
+    fn new(elements: &'g [GraphElement]) -> Self {
+        let root = Cluster {
+            path: "",
+            id: String::new(),
+            elements: Vec::new(),
+            children: Vec::new(),
+        };
+        let mut tree = Tree {
+            clusters: vec![root],
+        };
+        for (index, element) in elements.iter().enumerate() {
+            let cluster = tree.cluster(element.group);
+            tree.clusters[cluster].elements.push(index);
+        }
+        tree
+    }
+
+    /// The index of the cluster of `path`, created (with its ancestors) if new.
+    fn cluster(&mut self, path: &'g str) -> usize {
+        if path.is_empty() {
+            return 0;
+        }
+        if let Some(found) = self.clusters.iter().position(|c| c.path == path) {
+            return found;
+        }
+        let parent = match path.rsplit_once('.') {
+            Some((parent, _)) => self.cluster(parent),
+            None => 0,
+        };
+        let id = self.unused_id(path);
+        self.clusters.push(Cluster {
+            path,
+            id,
+            elements: Vec::new(),
+            children: Vec::new(),
+        });
+        let index = self.clusters.len() - 1;
+        self.clusters[parent].children.push(index);
+        index
+    }
+
+    /// `cluster_` and the path with anything but ASCII letters, digits and `_` replaced
+    /// by `_`, with a suffix `_2`, `_3`, ... if another path already gave that name.
+    fn unused_id(&self, path: &str) -> String {
+        let sanitised: String = path
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        let base = format!("cluster_{sanitised}");
+        let mut id = base.clone();
+        let mut suffix = 2;
+        while self.clusters.iter().any(|c| c.id == id) {
+            id = format!("{base}_{suffix}");
+            suffix += 1;
+        }
+        id
+    }
+
+    fn write(
+        &self,
+        f: &mut fmt::Formatter<'_>,
+        elements: &[GraphElement],
+        cluster: usize,
+        depth: usize,
+    ) -> fmt::Result {
+        let cluster = &self.clusters[cluster];
+        let indent = "  ".repeat(depth);
+        for &index in &cluster.elements {
+            writeln!(f, "{indent}e{index} {};", NodeAttributes(&elements[index]))?;
+        }
+        for &child in &cluster.children {
+            let nested = &self.clusters[child];
+            writeln!(f, "{indent}subgraph {} {{", nested.id)?;
+            writeln!(
+                f,
+                "{indent}  graph [label={}, style=\"rounded,dashed\", fontsize=11];",
+                quoted(nested.path)
+            )?;
+            self.write(f, elements, child, depth + 1)?;
+            writeln!(f, "{indent}}}")?;
+        }
+        Ok(())
+    }
+}
+
+/// `[label=..., tooltip=...]` for one element.
+struct NodeAttributes<'a>(&'a GraphElement);
+
+impl Display for NodeAttributes<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let element = self.0;
+        let keyword = element.kind.keyword();
+        match element.kind {
+            ElementKind::Zero | ElementKind::One if element.name.is_empty() => {
+                write!(f, "[label={}", quoted(keyword))?
+            }
+            ElementKind::Zero | ElementKind::One => write!(
+                f,
+                "[label=<{keyword}<BR/><FONT POINT-SIZE=\"9\">{}</FONT>>",
+                Html(element.name)
+            )?,
+            _ => write!(
+                f,
+                "[label={}",
+                quoted(&format!("{keyword} : {}", element.name))
+            )?,
+        }
+        let path = if element.group.is_empty() {
+            element.name.to_owned()
+        } else {
+            format!("{}.{}", element.group, element.name)
+        };
+        let causality = match element.causality {
+            ElementCausality::Integral => ", integral causality",
+            ElementCausality::Resistance => ", resistance causality (e = R(f))",
+            ElementCausality::Conductance => ", conductance causality (f = R⁻¹(e))",
+            ElementCausality::Fixed => "",
+        };
+        write!(
+            f,
+            ", tooltip={}]",
+            quoted(&format!("{keyword} {path}{causality}"))
+        )
+    }
+}
+
+/// A DOT double-quoted string: `"` and `\` escaped, line breaks as `\n` (a centred
+/// line break in a label), carriage returns dropped.
+fn quoted(text: &str) -> Quoted<'_> {
+    Quoted(text)
+}
+
+struct Quoted<'a>(&'a str);
+
+impl Display for Quoted<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_char('"')?;
+        for c in self.0.chars() {
+            match c {
+                '"' => f.write_str("\\\"")?,
+                '\\' => f.write_str("\\\\")?,
+                '\n' => f.write_str("\\n")?,
+                '\r' => {}
+                c => f.write_char(c)?,
+            }
+        }
+        f.write_char('"')
+    }
+}
+
+/// Text inside a Graphviz HTML-like label: `&`, `<`, `>`, `"` and `'` as entities,
+/// line breaks as `<BR/>`.
+struct Html<'a>(&'a str);
+
+impl Display for Html<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for c in self.0.chars() {
+            match c {
+                '&' => f.write_str("&amp;")?,
+                '<' => f.write_str("&lt;")?,
+                '>' => f.write_str("&gt;")?,
+                '"' => f.write_str("&quot;")?,
+                '\'' => f.write_str("&#39;")?,
+                '\n' => f.write_str("<BR/>")?,
+                '\r' => {}
+                c => f.write_char(c)?,
+            }
+        }
+        Ok(())
+    }
+}
