@@ -42,7 +42,9 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         .outputs
         .iter()
         .zip(&output_shapes)
-        .flat_map(|(o, &shape)| component_names(&o.name.to_string(), shape))
+        .flat_map(|(o, &shape)| {
+            component_names(&crate::flatten::display(&o.name.to_string()), shape)
+        })
         .collect();
     let n_states = state_names.len();
     let n_outputs = output_names.len();
@@ -622,7 +624,12 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
     let model = graph.name.to_string();
     let elements = graph.element_ids().map(|id| {
         let element = graph.element(id);
-        let name = element.name.to_string();
+        // `crank__tip__v`: the element `v` of the instance `crank.tip`.
+        let full = element.name.to_string();
+        let (group, name) = match full.rsplit_once(crate::flatten::SEPARATOR) {
+            Some((group, name)) => (crate::flatten::display(group), name.to_string()),
+            None => (String::new(), full.clone()),
+        };
         let kind = match element.kind {
             ElementKind::Se => quote!(Se),
             ElementKind::Sf => quote!(Sf),
@@ -640,7 +647,7 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             ElementCausality::Conductance => quote!(Conductance),
             ElementCausality::Fixed => quote!(Fixed),
         };
-        quote!(#rt::GraphElement { name: #name, group: "", kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
+        quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);

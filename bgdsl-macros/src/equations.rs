@@ -184,7 +184,10 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         };
         state_of[id.0] = Some(states.len());
         states.push(State {
-            name: format!("{}.{var}", element.name),
+            name: format!(
+                "{}.{var}",
+                crate::flatten::display(&element.name.to_string())
+            ),
             element: Some(id),
             kinematic: None,
             shape: Shape::of_dimension(graph.bond_dims[bond.0]),
@@ -201,7 +204,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         };
         let der = rewrite(&kinematic.der, &scope, &mut errors);
         states.push(State {
-            name: kinematic.name.to_string(),
+            name: crate::flatten::display(&kinematic.name.to_string()),
             element: None,
             kinematic: Some(k),
             shape: kinematic.shape,

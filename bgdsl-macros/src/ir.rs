@@ -187,11 +187,10 @@ impl Graph {
     /// "C spring", "1-junction v": how messages name an element.
     pub fn describe(&self, id: ElementId) -> String {
         let element = self.element(id);
+        let name = crate::flatten::display(&element.name.to_string());
         match element.kind {
-            ElementKind::Zero | ElementKind::One => {
-                format!("{} `{}`", element.kind.describe(), element.name)
-            }
-            kind => format!("{} `{}`", kind.word(), element.name),
+            ElementKind::Zero | ElementKind::One => format!("{} `{name}`", element.kind.describe()),
+            kind => format!("{} `{name}`", kind.word()),
         }
     }
 }

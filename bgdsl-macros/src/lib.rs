@@ -14,10 +14,12 @@ mod dims;
 mod equations;
 mod errors;
 mod expand;
+mod flatten;
 mod ir;
 mod resolve;
 mod rewrite;
 mod signals;
+mod stdlib;
 mod syntax;
 
 /// Compiles a textual bond graph into a simulation model.

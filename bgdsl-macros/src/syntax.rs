@@ -11,6 +11,7 @@ use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Token, Visibility};
 /// Words with a meaning of their own in a `bond_graph!` block.
 pub mod kw {
     syn::custom_keyword!(model);
+    syn::custom_keyword!(submodel);
     syn::custom_keyword!(param);
     syn::custom_keyword!(init);
     syn::custom_keyword!(output);
@@ -349,55 +350,81 @@ pub struct OutputDecl {
 
 impl Parse for File {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let mut models = Vec::new();
+        let mut raw_models = Vec::new();
+        let mut submodels: Vec<crate::flatten::SubmodelDef> = Vec::new();
         while !input.is_empty() {
-            models.push(input.parse()?);
+            let attrs = input.call(Attribute::parse_outer)?;
+            let vis: Visibility = input.parse()?;
+            let lookahead = input.lookahead1();
+            if lookahead.peek(kw::submodel) {
+                input.parse::<kw::submodel>()?;
+                submodels.push(input.parse()?);
+            } else if lookahead.peek(kw::model) {
+                input.parse::<kw::model>()?;
+                let name: Ident = input.parse()?;
+                let body;
+                let brace = braced!(body in input);
+                let body: proc_macro2::TokenStream = body.parse()?;
+                raw_models.push((attrs, vis, name, body, brace.span.close()));
+            } else {
+                return Err(lookahead.error());
+            }
         }
-        if models.is_empty() {
+        if raw_models.is_empty() {
             return Err(syn::Error::new(
                 Span::call_site(),
                 "expected a model: `pub model Name { ... }`",
             ));
         }
+        // The model's own submodels first: they shadow the standard library's.
+        let library = crate::stdlib::submodels()?;
+        let visible: Vec<&crate::flatten::SubmodelDef> = submodels.iter().chain(&library).collect();
+        let mut models = Vec::new();
+        for (attrs, vis, name, body, close) in raw_models {
+            let mut errors = Vec::new();
+            let flat = crate::flatten::flatten(body, &visible, &mut errors);
+            // Braces around the flat body, so "expected `;`" at its end still points
+            // at the model's closing brace.
+            let mut group = proc_macro2::Group::new(proc_macro2::Delimiter::Brace, flat);
+            group.set_span(close);
+            let in_braces = |input: ParseStream| {
+                let body;
+                braced!(body in input);
+                parse_body(&body)
+            };
+            let tokens = proc_macro2::TokenTree::Group(group).into();
+            let (stmts, parse_errors, poisoned) = syn::parse::Parser::parse2(in_braces, tokens)?;
+            errors.extend(parse_errors);
+            models.push(ModelDef {
+                attrs,
+                vis,
+                name,
+                stmts,
+                errors,
+                poisoned,
+            });
+        }
         Ok(File { models })
     }
 }
 
-impl Parse for ModelDef {
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        let attrs = input.call(Attribute::parse_outer)?;
-        let vis: Visibility = input.parse()?;
-        let lookahead = input.lookahead1();
-        if !lookahead.peek(kw::model) {
-            return Err(lookahead.error());
-        }
-        input.parse::<kw::model>()?;
-        let name: Ident = input.parse()?;
-        let body;
-        braced!(body in input);
-        let mut stmts = Vec::new();
-        let mut errors = Vec::new();
-        let mut poisoned = Vec::new();
-        while !body.is_empty() {
-            let start = body.fork();
-            match parse_stmt(&body, &mut errors) {
-                Ok(stmt) => stmts.push(stmt),
-                Err(error) => {
-                    errors.push(error);
-                    poisoned.extend(declared_name(&start));
-                    skip_past_semicolon(&body);
-                }
+/// A model's (flattened) statements, recovering after each one that does not parse.
+fn parse_body(body: ParseStream) -> syn::Result<(Vec<Stmt>, Vec<syn::Error>, Vec<Ident>)> {
+    let mut stmts = Vec::new();
+    let mut errors = Vec::new();
+    let mut poisoned = Vec::new();
+    while !body.is_empty() {
+        let start = body.fork();
+        match parse_stmt(body, &mut errors) {
+            Ok(stmt) => stmts.push(stmt),
+            Err(error) => {
+                errors.push(error);
+                poisoned.extend(declared_name(&start));
+                skip_past_semicolon(body);
             }
         }
-        Ok(ModelDef {
-            attrs,
-            vis,
-            name,
-            stmts,
-            errors,
-            poisoned,
-        })
     }
+    Ok((stmts, errors, poisoned))
 }
 
 /// The name a statement declares, read without parsing it: `KIND name ...`,

@@ -50,6 +50,17 @@ pub fn rot_z<S: Scalar>(angle: S) -> Matrix3<S> {
     Matrix3::new(c, -s, zero, s, c, zero, zero, zero, one)
 }
 
+/// The principal moments of inertia of a solid box of mass `m` and edge lengths
+/// `lx`, `ly`, `lz` about its centre: `m (ly² + lz²) / 12`, and so on.
+pub fn box_inertia<S: Scalar>(m: S, lx: S, ly: S, lz: S) -> Vector3<S> {
+    let twelfth = S::from_f64(1.0 / 12.0);
+    vec3(
+        m * (ly * ly + lz * lz) * twelfth,
+        m * (lx * lx + lz * lz) * twelfth,
+        m * (lx * lx + ly * ly) * twelfth,
+    )
+}
+
 /// A parameter vector (`[f64; N]` in the parameter struct) in the scalar type.
 pub fn vector_param<S: Scalar, const N: usize>(value: &[f64; N]) -> SVector<S, N> {
     SVector::from_fn(|i, _| S::from_f64(value[i]))
