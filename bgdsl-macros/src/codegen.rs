@@ -160,14 +160,14 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 &self.params
             }
 
-            #[allow(unused_variables, clippy::all)]
+            #[allow(unused_variables, non_snake_case, clippy::all)]
             fn initial_state(&self, __x0: &mut [::core::primitive::f64]) {
                 ::core::assert_eq!(__x0.len(), #n_states, "state vector length");
                 #params_f64
                 #initial
             }
 
-            #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
+            #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
             #[inline]
             fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __dx: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
@@ -176,7 +176,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 #(#derivatives)*
             }
 
-            #[allow(unused_variables, unused_parens, unused_braces, clippy::all)]
+            #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
             fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __y: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
@@ -346,13 +346,14 @@ fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> Token
             ::bgdsl_runtime::__private::serde::Deserialize,
         )]
         #[serde(crate = "::bgdsl_runtime::__private::serde", default, deny_unknown_fields)]
+        #[allow(non_snake_case)]
         #vis struct #ident {
             #(#fields)*
         }
 
         #[automatically_derived]
         impl ::core::default::Default for #ident {
-            #[allow(clippy::all)]
+            #[allow(non_snake_case, clippy::all)]
             fn default() -> Self {
                 #( let #names: #types = #defaults; )*
                 Self { #(#names),* }
@@ -383,6 +384,7 @@ fn record_struct(
     quote! {
         #[doc = #doc]
         #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #[allow(non_snake_case)]
         #vis struct #ident<T> {
             #( #[doc = #docs] pub #fields: T, )*
             #marker_field

@@ -395,7 +395,12 @@ impl Resolver {
             let name = &element.name;
             let count = element.bonds.len();
             let what = self.graph.describe(id);
+            // A submodel's junction is a port: the model may leave it unused, or join
+            // only the submodel's own bond to it (a free rotation, say).
+            let port = element.name.to_string().contains(crate::flatten::SEPARATOR)
+                && matches!(element.kind, ElementKind::Zero | ElementKind::One);
             let message = match element.kind {
+                _ if port => None,
                 _ if count == 0 => Some(format!(
                     "{what} is not connected to anything: add a bond such as `{name} -> ...`, or remove it"
                 )),

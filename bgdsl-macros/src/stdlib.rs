@@ -42,6 +42,17 @@ pub const TEXT: &str = r#"
         sum -> v;
     }
 
+    /// A point of a rigid body given by its offset from the centre of mass in frame 0
+    /// (it may move over the body, like the rocker's point under the crank pin).
+    submodel OffsetPoint(body, offset) {
+        MTF arm = -::bgdsl_runtime::multibond::skew(offset);
+        0 sum;
+        1 v;
+        body.v -> sum;
+        body.w -> arm -> sum;
+        sum -> v;
+    }
+
     /// A fixed point: zero velocity. Its port `v` takes couplings to the ground.
     submodel Ground() {
         Sf[3] fixed = ::bgdsl_runtime::multibond::vec3(0.0, 0.0, 0.0);
@@ -105,7 +116,14 @@ mod should {
             .collect();
         assert_eq!(
             names,
-            ["RigidBody", "Point", "Ground", "Coupling", "FrameCoupling"]
+            [
+                "RigidBody",
+                "Point",
+                "OffsetPoint",
+                "Ground",
+                "Coupling",
+                "FrameCoupling"
+            ]
         );
     }
 }

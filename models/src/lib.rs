@@ -14,6 +14,7 @@ pub mod dc_motor;
 pub mod duffing;
 pub mod oscillator;
 pub mod quarter_car;
+pub mod quick_return;
 pub mod quick_return_rigid;
 #[doc(hidden)]
 pub mod reference;

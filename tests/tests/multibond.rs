@@ -2,7 +2,7 @@
 //! pendulum: a rigid bar pinned at one end to the ground by a stiff compliant joint,
 //! under gravity, written the way the seed paper writes a rigid link.
 
-use bgdsl_runtime::multibond::{diag3, rot_z, skew, vec3, Matrix3, Vector3};
+use bgdsl_runtime::multibond::{diag3, rot_z, skew, vec3, Matrix3};
 use bgdsl_runtime::{bond_graph, Model, Scalar, Simulation, Solver, Trajectory};
 
 bond_graph! {

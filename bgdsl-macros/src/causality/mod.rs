@@ -478,10 +478,11 @@ impl Scap<'_> {
         let graph = self.graph;
         if self.errors.is_empty() {
             for junction in graph.element_ids() {
-                if !matches!(
-                    graph.element(junction).kind,
-                    ElementKind::Zero | ElementKind::One
-                ) {
+                let element = graph.element(junction);
+                // An unused submodel port has no bonds and nothing to set.
+                if !matches!(element.kind, ElementKind::Zero | ElementKind::One)
+                    || element.bonds.is_empty()
+                {
                     continue;
                 }
                 let setters = graph

@@ -2,6 +2,8 @@
 //! random-number generator, and closed-form solutions.
 #![allow(dead_code)]
 
+pub mod quick_return;
+
 use bgdsl_runtime::{DormandPrinceOptions, Model, Simulation, Solver, Trajectory};
 
 /// Adaptive Dormand–Prince with the given tolerances.
