@@ -79,6 +79,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     );
     let graph_const = graph_description(graph, causality);
     let body = evaluation_body(graph, equations);
+    let power = crate::power::account(graph, equations);
     let scalar = quote!(Scalar);
     let state_offsets = equations.offsets();
     let dx = Ident::new("__dx", Span::call_site());
@@ -182,6 +183,17 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
                 #body
                 #(#outputs)*
+            }
+
+            #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
+            fn power_balance<Scalar: ::bgdsl_runtime::Scalar>(
+                &self,
+                __t: ::core::primitive::f64,
+                __x: &[Scalar],
+            ) -> ::core::option::Option<::bgdsl_runtime::PowerBalance<Scalar>> {
+                ::core::assert_eq!(__x.len(), #n_states, "state vector length");
+                #body
+                #power
             }
 
             fn causal_graph(&self) -> ::core::option::Option<&'static ::bgdsl_runtime::CausalGraph> {

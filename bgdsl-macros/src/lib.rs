@@ -16,6 +16,7 @@ mod errors;
 mod expand;
 mod flatten;
 mod ir;
+mod power;
 mod resolve;
 mod rewrite;
 mod signals;

@@ -65,8 +65,29 @@ pub trait Model {
         crate::solver::Solver::stiff()
     }
 
+    /// The model's energy account at `(t, x)`, from its bond graph: the energy in its
+    /// storage elements, the power its sources deliver and the power its resistors
+    /// dissipate. For a generated model `d(stored)/dt = input − dissipated` holds
+    /// exactly; `None` for models that do not say.
+    fn power_balance<T: Scalar>(&self, t: f64, x: &[T]) -> Option<PowerBalance<T>> {
+        let _ = (t, x);
+        None
+    }
+
     /// The causal bond graph the model was generated from, if it has one.
     fn causal_graph(&self) -> Option<&'static CausalGraph> {
         None
     }
+}
+
+/// A model's energy account at one instant (see [`Model::power_balance`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PowerBalance<T> {
+    /// Energy held by the storage elements (C and I), J: each element's law integrated
+    /// from zero to its state.
+    pub stored: T,
+    /// Power delivered by the sources (Se, Sf), W; negative where a source absorbs.
+    pub input: T,
+    /// Power dissipated by the resistors (R), W.
+    pub dissipated: T,
 }
