@@ -23,6 +23,8 @@ fn ui() {
     cases.compile_fail("ui/stub/*.rs");
     // Multibonds: dimensions, modulated transformers, kinematic states.
     cases.compile_fail("ui/multibond/*.rs");
+    // Submodels: errors inside an instance point at the instantiation.
+    cases.compile_fail("ui/submodel/*.rs");
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }

@@ -566,7 +566,7 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
         }
         CausalityError::Derivative { element, path } => {
             let forced_by = path.first().copied().unwrap_or(*element);
-            let route: Vec<String> = path.iter().map(|&id| graph.element(id).name.to_string()).collect();
+            let route: Vec<String> = path.iter().map(|&id| crate::flatten::display(&graph.element(id).name.to_string())).collect();
             let kind = graph.element(*element).kind;
             let forcer_kind = graph.element(forced_by).kind;
             let mend = match (kind, forcer_kind) {
