@@ -21,7 +21,8 @@ pub const TEXT: &str = r#"
         der r = v.f;
         I[3] translation = m;
         I[3] rotation {
-            f = R * ::bgdsl_runtime::multibond::diag3(1.0 / J.x, 1.0 / J.y, 1.0 / J.z) * R.transpose() * p
+            f = R * ::bgdsl_runtime::multibond::vec3(1.0 / J.x, 1.0 / J.y, 1.0 / J.z)
+                .component_mul(&(R.transpose() * p))
         };
         Se[3] weight = ::bgdsl_runtime::multibond::vec3(0.0, -m * g, 0.0);
         1 v;
