@@ -66,20 +66,69 @@ mod syntax;
 /// # Grammar
 ///
 /// ```text
-/// input     := model+
+/// input     := (model | submodel)+
 /// model     := doc* vis? "model" Name "{" statement* "}"
-/// statement := doc* "param" name "=" expr ";"             parameter, f64, with default
-///            | doc* KIND name law? ";"                     element
-///            | endpoint (arrow endpoint)+ ";"              bonds
-///            | "init" element "." ("q" | "p") "=" expr ";" initial state (default 0)
-///            | doc* "output" name "=" expr ";"             named output
-/// KIND      := "Se" | "Sf" | "C" | "I" | "R" | "TF" | "GY" | "0" | "1"
-/// law       := "=" expr                                   linear law or source value
+/// submodel  := doc* "submodel" Name "(" param_decl ("," param_decl)* ")" "{" statement* "}"
+/// param_decl:= name (":" type)? ("=" default)?
+/// statement := doc* "param" name (":" type)? "=" expr ";"   parameter with default
+///            | doc* KIND ("[" n "]")? name law? ";"          element (n: bond dimension)
+///            | endpoint (arrow endpoint)+ ";"                bonds
+///            | "init" element "." ("q" | "p") "=" expr ";"   initial state (default 0)
+///            | "state" name ":" type "=" expr ";"            kinematic state, initial value
+///            | "der" name "=" expr ";"                       its time derivative
+///            | doc* "output" name (":" type)? "=" expr ";"   named output
+///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
+/// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1"
+/// type      := "f64" | "Vector3" | "Matrix3" | "[f64; N]" | "[[f64; C]; R]"
+/// law       := "=" expr ("," "inverse" "=" expr)?          linear law or source value
+///                                                          (inverse: TF/GY only)
 ///            | "{" form ("," form)* ","? "}"              explicit law
 /// form      := ("e" | "f") "=" expr
-/// endpoint  := name | "{" name ("," name)* ","? "}"        a group fans out or in
+/// endpoint  := path | "{" path ("," path)* ","? "}"        a group fans out or in
+/// path      := name ("." name)*                            `crank.v`: a port of an instance
 /// arrow     := "->" | "-[" label "]->"                     half arrow: power left to right
 /// ```
+///
+/// ## Multibonds
+///
+/// A bond's dimension is inferred: bonds meeting at a junction, and both ports of a TF
+/// or GY, share one; an element written `I[3]` fixes it; what nothing fixes is scalar.
+/// A 3-dimensional bond carries nalgebra vectors of the model's scalar type, and a
+/// linear law's coefficient may be a number (it scales) or a matrix (it multiplies):
+/// `C[3] joint = diag3(0.0, k, k);`. A TF/MTF with modulus `M` relates `f2 = M f1` and
+/// `e1 = Mᵀ e2` (a GY/MGY: `e2 = M f1`, `e1 = Mᵀ f2`). When causality makes a
+/// multibond two-port work backwards, it needs `M⁻¹`: give it with
+/// `MTF frame = R.transpose(), inverse = R;` — without it, the compile error says so (a
+/// skew-symmetric lever arm has no inverse). Helpers for laws are in
+/// `bgdsl_runtime::multibond`: `vec3`, `diag3`, `skew`, `rot_z`, `box_inertia`.
+///
+/// Parameters may be vectors and matrices (`param K: [f64; 3] = [0.0, 1e5, 1e5];`,
+/// rows first), which laws see as nalgebra values. A kinematic state
+/// (`state R: Matrix3 = rot_z(theta0); der R = skew(w.f) * R;`) is integrated like
+/// storage; its name is a value in every expression. Vector and matrix outputs give one
+/// column per entry: `_x`, `_y`, `_z`, or `_rc` column by column.
+///
+/// ## Submodels
+///
+/// `submodel Name(params) { statements }` defines a reusable fragment; each instance
+/// `Name inst(param = expr, ...)` is inlined with its names prefixed (`inst.part` in
+/// messages and state names) and its parameters replaced by the arguments (a plain
+/// name or path is passed as a name, so a body can be handed to a point:
+/// `Point tip(body = crank, at = vec3(0.1, 0.0, 0.0))`). From outside, `inst.port`
+/// names an instance's element or junction. Errors inside an instance point at the
+/// instantiation. The standard library, written in this language and always available
+/// (a model's own submodel of the same name takes precedence):
+///
+/// - `RigidBody(m, J, R0, r0, g)`: translational momentum, angular momentum in frame 0
+///   with `w = R J⁻¹ Rᵀ h`, orientation `R` and position `r` states, weight; ports `v`
+///   (centre-of-mass velocity) and `w` (angular velocity).
+/// - `Point(body, at)`: the point at body-frame vector `at`; port `v`.
+/// - `OffsetPoint(body, offset)`: the point at frame-0 offset `offset` from the centre
+///   of mass (it may move over the body); port `v`.
+/// - `Ground()`: a fixed point; port `v`.
+/// - `Coupling(a, b, k, c)`: a spring-damper between ports `a` and `b`; its force acts
+///   on `b`, its opposite on `a`; `spring.q` is `∫ (a − b)`.
+/// - `FrameCoupling(a, b, frame, k, c)`: the same with the laws in a moving frame.
 ///
 /// ## Elements and their laws
 ///
