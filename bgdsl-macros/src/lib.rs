@@ -1,8 +1,8 @@
 //! The `bond_graph!` compiler.
 //!
 //! A pipeline of plain functions over `proc_macro2` tokens, one module per stage:
-//! [`syntax`] (parse) → [`resolve`] (names, structure) → [`causality`] (SCAP) →
-//! [`equations`] (assignments in computation order) → [`codegen`] (Rust). Each stage
+//! `syntax` (parse) → `flatten` (submodels) → `resolve` (names, structure, dimensions) → `causality` (SCAP) →
+//! `equations` (assignments in computation order) → `codegen` (Rust). Each stage
 //! returns spanned `syn::Error`s, combined so that one compile reports every independent
 //! mistake; the macro never panics.
 //!
