@@ -5,7 +5,8 @@
 //! parts, exact to round-off (no step size, no truncation error). Generated models are
 //! generic over [`Scalar`], so [`Model::derivatives`](crate::Model::derivatives) runs on
 //! `Dual` unchanged; [`JacobianEvaluator`](crate::JacobianEvaluator) builds Jacobians
-//! from that.
+//! from that, several directions per evaluation with [`DualN`] (a value with `N`
+//! tangents, equal lane by lane to [`Dual`]).
 //!
 //! # Conventions
 //!
@@ -412,6 +413,449 @@ impl Scalar for Dual {
     }
 }
 
+/// A dual number with `N` tangents, `re + sum_k eps_k·ε_k` (`ε_j ε_k = 0`): a value
+/// and its derivatives along `N` directions at once.
+///
+/// One evaluation on `DualN<N>` gives what `N` evaluations on [`Dual`] give, lane by
+/// lane, while the value, the branches and the elementary functions are computed once:
+/// [`JacobianEvaluator`] evaluates Jacobians `N` colours at a time this way.
+///
+/// Every tangent is computed with the operations [`Dual`] uses, in the same order,
+/// under the same conventions (see the [module documentation](self)): lane `k` equals
+/// the [`Dual`] result for the direction of lane `k` bit for bit.
+///
+/// [`JacobianEvaluator`]: crate::JacobianEvaluator
+#[derive(Clone, Copy, Debug)]
+pub struct DualN<const N: usize> {
+    re: f64,
+    eps: [f64; N],
+}
+
+impl<const N: usize> Default for DualN<N> {
+    fn default() -> Self {
+        DualN::constant(0.0)
+    }
+}
+
+impl<const N: usize> DualN<N> {
+    /// The dual number `re + sum_k eps[k]·ε_k`.
+    #[inline(always)]
+    pub const fn new(re: f64, eps: [f64; N]) -> Self {
+        DualN { re, eps }
+    }
+
+    /// A constant: all tangents zero.
+    #[inline(always)]
+    pub const fn constant(re: f64) -> Self {
+        DualN { re, eps: [0.0; N] }
+    }
+
+    /// The value.
+    #[inline(always)]
+    pub fn value(&self) -> f64 {
+        self.re
+    }
+
+    /// The tangents.
+    #[inline(always)]
+    pub fn tangents(&self) -> &[f64; N] {
+        &self.eps
+    }
+
+    /// Sets tangent `k` to `eps`.
+    ///
+    /// # Panics
+    /// If `k >= N`.
+    #[inline]
+    pub fn set_tangent(&mut self, k: usize, eps: f64) {
+        self.eps[k] = eps;
+    }
+
+    /// Lane `k` as a [`Dual`].
+    ///
+    /// # Panics
+    /// If `k >= N`.
+    #[inline(always)]
+    pub fn lane(&self, k: usize) -> Dual {
+        Dual::new(self.re, self.eps[k])
+    }
+
+    /// `value` with tangents `slope · eps_k`: [`Dual`]'s chain rule, lane by lane.
+    #[inline(always)]
+    fn chain(self, value: f64, slope: f64) -> Self {
+        let mut eps = self.eps;
+        for e in &mut eps {
+            *e *= slope;
+        }
+        DualN::new(value, eps)
+    }
+
+    /// [`Dual`]'s guarded chain rule, lane by lane: a zero tangent stays zero whatever
+    /// `slope` is.
+    #[inline(always)]
+    fn chain_guarded(self, value: f64, slope: f64) -> Self {
+        let mut eps = self.eps;
+        for e in &mut eps {
+            *e = if *e == 0.0 { 0.0 } else { *e * slope };
+        }
+        DualN::new(value, eps)
+    }
+
+    /// `value` with the tangents `(a_k + b_k) / 2` (min and max of equal values).
+    #[inline(always)]
+    fn mean(self, other: Self, value: f64) -> Self {
+        let mut eps = self.eps;
+        for (e, o) in eps.iter_mut().zip(&other.eps) {
+            *e = 0.5 * (*e + o);
+        }
+        DualN::new(value, eps)
+    }
+}
+
+impl<const N: usize> From<f64> for DualN<N> {
+    /// A constant.
+    #[inline(always)]
+    fn from(re: f64) -> Self {
+        DualN::constant(re)
+    }
+}
+
+impl<const N: usize> PartialEq for DualN<N> {
+    /// Equality of the values, as for [`Dual`].
+    #[inline(always)]
+    fn eq(&self, other: &Self) -> bool {
+        self.re == other.re
+    }
+}
+
+impl<const N: usize> PartialOrd for DualN<N> {
+    /// Ordering of the values.
+    #[inline(always)]
+    fn partial_cmp(&self, other: &Self) -> Option<core::cmp::Ordering> {
+        self.re.partial_cmp(&other.re)
+    }
+}
+
+impl<const N: usize> fmt::Display for DualN<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.re)?;
+        for (k, e) in self.eps.iter().enumerate() {
+            write!(f, " + {e}ε{k}")?;
+        }
+        Ok(())
+    }
+}
+
+impl<const N: usize> Neg for DualN<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        let mut eps = self.eps;
+        for e in &mut eps {
+            *e = -*e;
+        }
+        DualN::new(-self.re, eps)
+    }
+}
+
+impl<const N: usize> Add for DualN<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, rhs: Self) -> Self {
+        let re = self.re + rhs.re;
+        let mut eps = self.eps;
+        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
+            *e += r;
+        }
+        DualN::new(re, eps)
+    }
+}
+
+impl<const N: usize> Sub for DualN<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, rhs: Self) -> Self {
+        let re = self.re - rhs.re;
+        let mut eps = self.eps;
+        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
+            *e -= r;
+        }
+        DualN::new(re, eps)
+    }
+}
+
+impl<const N: usize> Mul for DualN<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, rhs: Self) -> Self {
+        let (x, y) = (self.re, rhs.re);
+        let mut eps = self.eps;
+        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
+            *e = *e * y + x * r;
+        }
+        DualN::new(x * y, eps)
+    }
+}
+
+impl<const N: usize> Div for DualN<N> {
+    type Output = Self;
+    /// As [`Dual`]: `(a/b)' = (a' − (a/b)·b') / b`.
+    #[inline(always)]
+    fn div(self, rhs: Self) -> Self {
+        let q = self.re / rhs.re;
+        let d = rhs.re;
+        let mut eps = self.eps;
+        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
+            *e = (*e - q * r) / d;
+        }
+        DualN::new(q, eps)
+    }
+}
+
+impl<const N: usize> AddAssign for DualN<N> {
+    #[inline(always)]
+    fn add_assign(&mut self, rhs: Self) {
+        *self = *self + rhs;
+    }
+}
+
+impl<const N: usize> SubAssign for DualN<N> {
+    #[inline(always)]
+    fn sub_assign(&mut self, rhs: Self) {
+        *self = *self - rhs;
+    }
+}
+
+impl<const N: usize> MulAssign for DualN<N> {
+    #[inline(always)]
+    fn mul_assign(&mut self, rhs: Self) {
+        *self = *self * rhs;
+    }
+}
+
+impl<const N: usize> DivAssign for DualN<N> {
+    #[inline(always)]
+    fn div_assign(&mut self, rhs: Self) {
+        *self = *self / rhs;
+    }
+}
+
+impl<const N: usize> num_traits::Zero for DualN<N> {
+    #[inline(always)]
+    fn zero() -> Self {
+        DualN::constant(0.0)
+    }
+    #[inline]
+    fn is_zero(&self) -> bool {
+        self.re == 0.0 && self.eps.iter().all(|&e| e == 0.0)
+    }
+}
+
+impl<const N: usize> num_traits::One for DualN<N> {
+    #[inline(always)]
+    fn one() -> Self {
+        DualN::constant(1.0)
+    }
+}
+
+/// Every method computes what [`Dual`]'s does, lane by lane (see [`DualN`] and the
+/// [module documentation](self) for the conventions).
+impl<const N: usize> Scalar for DualN<N> {
+    #[inline(always)]
+    fn from_f64(value: f64) -> Self {
+        DualN::constant(value)
+    }
+
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self.re
+    }
+
+    #[inline]
+    fn sqrt(self) -> Self {
+        let r = self.re.sqrt();
+        self.chain_guarded(r, 0.5 / r)
+    }
+
+    #[inline]
+    fn cbrt(self) -> Self {
+        let r = self.re.cbrt();
+        self.chain_guarded(r, 1.0 / (3.0 * r * r))
+    }
+
+    #[inline]
+    fn exp(self) -> Self {
+        let e = self.re.exp();
+        self.chain(e, e)
+    }
+
+    #[inline]
+    fn ln(self) -> Self {
+        self.chain_guarded(self.re.ln(), 1.0 / self.re)
+    }
+
+    #[inline]
+    fn sin(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(s, c)
+    }
+
+    #[inline]
+    fn cos(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(c, -s)
+    }
+
+    #[inline]
+    fn tan(self) -> Self {
+        let t = self.re.tan();
+        self.chain(t, 1.0 + t * t)
+    }
+
+    #[inline]
+    fn asin(self) -> Self {
+        let x = self.re;
+        self.chain_guarded(x.asin(), 1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+    }
+
+    #[inline]
+    fn acos(self) -> Self {
+        let x = self.re;
+        self.chain_guarded(x.acos(), -1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+    }
+
+    #[inline]
+    fn atan(self) -> Self {
+        let x = self.re;
+        self.chain(x.atan(), 1.0 / (1.0 + x * x))
+    }
+
+    /// As [`Dual`]'s: a lane whose two tangents are zero gets a zero tangent (also at
+    /// the origin).
+    #[inline]
+    fn atan2(self, other: Self) -> Self {
+        let (y, x) = (self, other);
+        let value = y.re.atan2(x.re);
+        let r = y.re.hypot(x.re);
+        let (c, s) = (x.re / r, y.re / r);
+        let mut eps = y.eps;
+        for (e, xe) in eps.iter_mut().zip(&x.eps) {
+            *e = if *e == 0.0 && *xe == 0.0 {
+                0.0
+            } else {
+                (c * *e - s * xe) / r
+            };
+        }
+        DualN::new(value, eps)
+    }
+
+    #[inline]
+    fn sinh(self) -> Self {
+        self.chain(self.re.sinh(), self.re.cosh())
+    }
+
+    #[inline]
+    fn cosh(self) -> Self {
+        self.chain(self.re.cosh(), self.re.sinh())
+    }
+
+    #[inline]
+    fn tanh(self) -> Self {
+        let sech = 1.0 / self.re.cosh();
+        self.chain(self.re.tanh(), sech * sech)
+    }
+
+    #[inline]
+    fn abs(self) -> Self {
+        let slope = if self.re > 0.0 {
+            1.0
+        } else if self.re < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        self.chain(self.re.abs(), slope)
+    }
+
+    #[inline]
+    fn signum(self) -> Self {
+        DualN::constant(self.re.signum())
+    }
+
+    #[inline]
+    fn powi(self, n: i32) -> Self {
+        match n {
+            0 => DualN::constant(1.0),
+            1 => self,
+            _ => {
+                let value = self.re.powi(n);
+                let below = match n.checked_sub(1) {
+                    Some(m) => self.re.powi(m),
+                    None => value / self.re,
+                };
+                let slope = f64::from(n) * below;
+                if n > 0 {
+                    self.chain(value, slope)
+                } else {
+                    self.chain_guarded(value, slope)
+                }
+            }
+        }
+    }
+
+    /// As [`Dual`]'s: each of the two terms is taken only where its tangent is
+    /// non-zero.
+    #[inline]
+    fn powf(self, n: Self) -> Self {
+        let (x, y) = (self, n);
+        let value = x.re.powf(y.re);
+        let d_base = if y.re != 0.0 {
+            y.re * x.re.powf(y.re - 1.0)
+        } else {
+            0.0
+        };
+        let d_exp = if value != 0.0 { value * x.re.ln() } else { 0.0 };
+        let mut eps = [0.0; N];
+        for ((e, xe), ye) in eps.iter_mut().zip(&x.eps).zip(&y.eps) {
+            if *xe != 0.0 && y.re != 0.0 {
+                *e += d_base * xe;
+            }
+            if *ye != 0.0 && value != 0.0 {
+                *e += d_exp * ye;
+            }
+        }
+        DualN::new(value, eps)
+    }
+
+    #[inline]
+    fn min(self, other: Self) -> Self {
+        if self.re < other.re || other.re.is_nan() {
+            self
+        } else if other.re < self.re || self.re.is_nan() {
+            other
+        } else {
+            self.mean(other, self.re.min(other.re))
+        }
+    }
+
+    #[inline]
+    fn max(self, other: Self) -> Self {
+        if self.re > other.re || other.re.is_nan() {
+            self
+        } else if other.re > self.re || self.re.is_nan() {
+            other
+        } else {
+            self.mean(other, self.re.max(other.re))
+        }
+    }
+
+    #[inline]
+    fn recip(self) -> Self {
+        let r = self.re.recip();
+        self.chain(r, -r * r)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -428,5 +872,106 @@ mod tests {
     fn comparison_ignores_the_tangent() {
         assert_eq!(Dual::new(1.0, 2.0), Dual::new(1.0, -3.0));
         assert!(Dual::new(1.0, 5.0) < Dual::new(2.0, 0.0));
+        assert_eq!(DualN::new(1.0, [2.0, 0.0]), DualN::new(1.0, [-3.0, 1.0]));
+    }
+
+    /// Tangent lanes with zeros among them (the guarded rules must keep those zero).
+    const LANES: [f64; 4] = [1.0, 0.0, -2.5, 0.75];
+
+    /// Bit equality, with every NaN equal to every NaN.
+    fn same(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    /// `DualN` gives, lane by lane, what `Dual` gives, bit for bit.
+    fn check_lanes(name: &str, got: DualN<4>, want: impl Fn(usize) -> Dual) {
+        for (k, &eps) in got.tangents().iter().enumerate() {
+            let w = want(k);
+            assert!(
+                same(got.value(), w.re) && same(eps, w.eps),
+                "{name}, lane {k}: {got} against {w}"
+            );
+        }
+    }
+
+    #[test]
+    fn every_method_equals_dual_lane_by_lane() {
+        type Unary = (&'static str, fn(DualN<4>) -> DualN<4>, fn(Dual) -> Dual);
+        let unary: [Unary; 21] = [
+            ("neg", |x| -x, |x| -x),
+            ("sqrt", Scalar::sqrt, Scalar::sqrt),
+            ("cbrt", Scalar::cbrt, Scalar::cbrt),
+            ("exp", Scalar::exp, Scalar::exp),
+            ("ln", Scalar::ln, Scalar::ln),
+            ("sin", Scalar::sin, Scalar::sin),
+            ("cos", Scalar::cos, Scalar::cos),
+            ("tan", Scalar::tan, Scalar::tan),
+            ("asin", Scalar::asin, Scalar::asin),
+            ("acos", Scalar::acos, Scalar::acos),
+            ("atan", Scalar::atan, Scalar::atan),
+            ("sinh", Scalar::sinh, Scalar::sinh),
+            ("cosh", Scalar::cosh, Scalar::cosh),
+            ("tanh", Scalar::tanh, Scalar::tanh),
+            ("abs", Scalar::abs, Scalar::abs),
+            ("signum", Scalar::signum, Scalar::signum),
+            ("powi(3)", |x| x.powi(3), |x| x.powi(3)),
+            ("powi(-2)", |x| x.powi(-2), |x| x.powi(-2)),
+            ("powi(0)", |x| x.powi(0), |x| x.powi(0)),
+            ("powi(1)", |x| x.powi(1), |x| x.powi(1)),
+            ("recip", Scalar::recip, Scalar::recip),
+        ];
+        // Ordinary points and the special ones of the conventions.
+        let points = [0.3, -1.7, 0.0, -0.0, 1.0, -1.0, 2.5, 1e-300];
+        for (name, f, g) in unary {
+            for x in points {
+                let got = f(DualN::new(x, LANES));
+                check_lanes(name, got, |k| g(Dual::new(x, LANES[k])));
+            }
+        }
+        type Binary = (
+            &'static str,
+            fn(DualN<4>, DualN<4>) -> DualN<4>,
+            fn(Dual, Dual) -> Dual,
+        );
+        let binary: [Binary; 8] = [
+            ("add", |a, b| a + b, |a, b| a + b),
+            ("sub", |a, b| a - b, |a, b| a - b),
+            ("mul", |a, b| a * b, |a, b| a * b),
+            ("div", |a, b| a / b, |a, b| a / b),
+            ("atan2", Scalar::atan2, Scalar::atan2),
+            ("powf", Scalar::powf, Scalar::powf),
+            ("min", Scalar::min, Scalar::min),
+            ("max", Scalar::max, Scalar::max),
+        ];
+        let other = [0.0, 0.5, 2.0, -1.0, 1.5];
+        let other_lanes = [0.0, 2.0, 0.0, -1.0];
+        for (name, f, g) in binary {
+            for x in points {
+                for y in other {
+                    let got = f(DualN::new(x, LANES), DualN::new(y, other_lanes));
+                    check_lanes(name, got, |k| {
+                        g(Dual::new(x, LANES[k]), Dual::new(y, other_lanes[k]))
+                    });
+                }
+            }
+        }
+        // Assignment operators and the constants.
+        let mut a = DualN::new(0.7, LANES);
+        a += DualN::new(0.1, [1.0; 4]);
+        a -= DualN::constant(0.2);
+        a *= DualN::new(3.0, [0.5; 4]);
+        a /= DualN::new(1.5, [0.0, 1.0, 0.0, 1.0]);
+        check_lanes("assign", a, |k| {
+            let mut b = Dual::new(0.7, LANES[k]);
+            b += Dual::new(0.1, 1.0);
+            b -= Dual::constant(0.2);
+            b *= Dual::new(3.0, 0.5);
+            b /= Dual::new(1.5, [0.0, 1.0, 0.0, 1.0][k]);
+            b
+        });
+        use num_traits::{One, Zero};
+        assert!(DualN::<4>::zero().is_zero() && !DualN::new(0.0, LANES).is_zero());
+        assert_eq!(DualN::<4>::one().value(), 1.0);
+        assert_eq!(DualN::<4>::from_f64(2.0).lane(3), Dual::constant(2.0));
     }
 }

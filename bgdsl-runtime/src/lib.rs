@@ -23,7 +23,7 @@ pub mod solver;
 
 pub use bgdsl_macros::bond_graph;
 pub use dot::Dot;
-pub use dual::Dual;
+pub use dual::{Dual, DualN};
 pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};

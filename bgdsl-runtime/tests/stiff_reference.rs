@@ -6,6 +6,15 @@
 //! counters are pinned so that a change of the algorithm (step-size control, Newton
 //! control, Jacobian and LU reuse) is deliberate**: such a change must update them, and
 //! the diff shows what it costs or saves.
+//!
+//! Deliberate change: Radau5's default `reuse_jacobian_below` went from 0.001 (RADAU5's
+//! default for small systems) to 0.03, towards the 0.1 Hairer & Wanner advise when
+//! Jacobians are costly, as they are for mechanism models (a Jacobian of the 117-state
+//! quick return model costs about ten Newton iterations). The Radau5 pins moved from
+//! (accepted, rejected, rhs, Jacobians, LU) Robertson [290, 2, 2161, 272, 570], Van der
+//! Pol [485, 9, 3938, 303, 812], HIRES [102, 9, 977, 61, 174], Oregonator
+//! [522, 33, 4739, 426, 962] to the values below: 40–75 % fewer Jacobians, 3–55 % fewer
+//! LU factorizations, 2–16 % more evaluations; every accuracy assertion holds as before.
 
 mod stiff_common;
 
@@ -46,7 +55,7 @@ fn robertson_to_1e11() {
         assert!((x.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         // Pinned: a change of the algorithm must be deliberate.
         let pinned = match solver.name() {
-            "radau5" => [290, 2, 2161, 272, 570],
+            "radau5" => [308, 2, 2503, 68, 320],
             _ => [459, 1, 2761, 459, 460],
         };
         assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
@@ -64,7 +73,7 @@ fn van_der_pol_mu_1000_to_2() {
         assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
         // Pinned: a change of the algorithm must be deliberate.
         let pinned = match solver.name() {
-            "radau5" => [485, 9, 3938, 303, 812],
+            "radau5" => [493, 12, 4414, 106, 786],
             _ => [1061, 10, 6418, 1061, 1071],
         };
         assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
@@ -81,7 +90,7 @@ fn hires_to_321_8122() {
         assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
         // Pinned: a change of the algorithm must be deliberate.
         let pinned = match solver.name() {
-            "radau5" => [102, 9, 977, 61, 174],
+            "radau5" => [105, 10, 1034, 37, 148],
             _ => [272, 1, 1639, 272, 273],
         };
         assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());
@@ -104,7 +113,7 @@ fn oregonator_to_360() {
         assert!(err <= 1.0, "{}: scaled error {err:e}, {x:?}", solver.name());
         // Pinned: a change of the algorithm must be deliberate.
         let pinned = match solver.name() {
-            "radau5" => [522, 33, 4739, 426, 962],
+            "radau5" => [541, 36, 5421, 198, 876],
             _ => [2479, 6, 14906, 2479, 2485],
         };
         assert_eq!(counters(&stats), pinned, "{}: {stats:?}", solver.name());

@@ -50,7 +50,10 @@ fn dormand_prince_gives_up_where_the_stiff_methods_succeed() {
     for solver in stiff {
         let (x, stats) = solve(&VanDerPol, solver, 2.0);
         assert!(scaled_error(&x, &VDP_REF, rtol, atol) <= 1.0);
-        let most = if solver.name() == "radau5" { 500 } else { 1100 };
+        // Radau5 takes 505 steps since its default `reuse_jacobian_below` went from
+        // 0.001 to 0.03 (494 before: a Jacobian kept longer costs a few more steps; see
+        // `stiff_reference.rs`).
+        let most = if solver.name() == "radau5" { 520 } else { 1100 };
         assert!(stats.steps() <= most, "{}: {stats:?}", solver.name());
     }
 }

@@ -29,9 +29,17 @@ pub struct Stats {
     /// matrices each time, one real and one complex (about four times the work of the
     /// real one): both are counted. Rodas4 factors one per attempted step.
     pub n_lu: usize,
-    /// Evaluations of [`Model::derivatives`] spent on Jacobians: one dual-number
-    /// evaluation per colour of the sparsity pattern (none for a hand-written
-    /// [`Model::jacobian`]), plus, for Rodas4, one `f64` evaluation for `∂f/∂t`.
+    /// Of [`Stats::n_lu`], the factorizations by the sparse code (with pivots fixed at
+    /// set-up) that failed its stability test and were done again with partial
+    /// pivoting (stiff methods on models whose Jacobian is sparse enough; see
+    /// [`JacobianEvaluator`](crate::JacobianEvaluator)).
+    pub n_lu_fallback: usize,
+    /// Directional derivatives of [`Model::derivatives`] spent on Jacobians (stiff
+    /// methods): one per colour of the sparsity pattern, or of the numerical pattern
+    /// plus one for the check once that is known (see
+    /// [`JacobianEvaluator`](crate::JacobianEvaluator); none for a hand-written
+    /// [`Model::jacobian`]), evaluated [`LANES`](crate::jacobian::LANES) at a time on
+    /// dual numbers; plus, for Rodas4, one `f64` evaluation for `∂f/∂t`.
     pub n_jac_rhs: usize,
 }
 
@@ -218,12 +226,14 @@ impl<'m, M: Model> Simulation<'m, M> {
                 Kernel::Explicit(ExplicitRk::new(&DORMAND_PRINCE_5, n))
             }
             Solver::Radau5(o) => {
-                let method = |band| Radau5::new(n, band, &o);
+                let method = |structure: &_| Radau5::new(n, structure, &o);
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Radau5(Box::new(integrator)))
             }
             Solver::Rodas4(o) => {
-                let method = |band| Rosenbrock::new(&RODAS4, n, band, o.rtol, o.atol, o.safety);
+                let method = |structure: &_| {
+                    Rosenbrock::new(&RODAS4, n, structure, o.rtol, o.atol, o.safety)
+                };
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Rosenbrock(Box::new(integrator)))
             }

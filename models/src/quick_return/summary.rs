@@ -412,7 +412,7 @@ impl fmt::Display for Summary {
         writeln!(f, "derivatives    {} evaluations", s.n_rhs)?;
         writeln!(
             f,
-            "Jacobians      {} ({} derivative evaluations on dual numbers), {} LU \
+            "Jacobians      {} ({} directional derivatives by automatic differentiation), {} LU \
              factorizations",
             s.n_jac, s.n_jac_rhs, s.n_lu
         )?;

@@ -22,7 +22,7 @@ use super::driver::{min_step, non_finite, Stats};
 use super::explicit::{check_state, NonFinite};
 use crate::error::{NonFiniteKind, SolverError};
 use crate::jacobian::JacobianEvaluator;
-use crate::linalg::{Band, Singular};
+use crate::linalg::{Factored, Singular, Structure};
 use crate::model::Model;
 
 pub(crate) use options::Common;
@@ -85,9 +85,16 @@ pub(crate) trait ImplicitMethod {
     /// Forgets the previous steps: a new run starts.
     fn restart(&mut self);
 
-    /// Factors the iteration matrices for step size `h` and Jacobian `jac` (row-major);
-    /// returns the number of LU factorizations done.
-    fn factor(&mut self, h: f64, jac: &[f64]) -> Result<usize, Singular>;
+    /// Factors the iteration matrices for step size `h` and Jacobian `jac` (row-major),
+    /// which may differ from the last call's only if `new_jacobian`; counts the LU
+    /// factorizations done in `count`.
+    fn factor(
+        &mut self,
+        h: f64,
+        jac: &[f64],
+        new_jacobian: bool,
+        count: &mut LuCount,
+    ) -> Result<(), Singular>;
 
     /// Attempts one step, counting its evaluations of the model in `n_rhs`.
     fn attempt<M: Model>(&mut self, model: &M, start: &StepStart<'_>, n_rhs: &mut usize)
@@ -103,6 +110,23 @@ pub(crate) trait ImplicitMethod {
     /// Writes the continuous extension of the last accepted step at `t` (within it)
     /// into `out`.
     fn interpolate(&self, t: f64, out: &mut [f64]);
+}
+
+/// LU factorizations done, and how many of them fell back to partial pivoting.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LuCount {
+    pub lu: usize,
+    pub fallback: usize,
+}
+
+impl LuCount {
+    /// Counts one factorization that produced `f`.
+    pub fn add(&mut self, f: Factored) {
+        self.lu += 1;
+        if f == Factored::FellBack {
+            self.fallback += 1;
+        }
+    }
 }
 
 /// Why the last attempt failed, for the error reported if the step size underflows.
@@ -141,6 +165,8 @@ pub(crate) struct StiffIntegrator<S> {
     jac_current: bool,
     /// The Jacobian, evaluated at an earlier point, is to be used for the next attempt.
     jac_keep: bool,
+    /// The Jacobian changed since the last factorization.
+    jac_new: bool,
     first: bool,
     last_rejected: bool,
     /// Step size and error of the last accepted step (Gustafsson's controller).
@@ -152,15 +178,15 @@ pub(crate) struct StiffIntegrator<S> {
 }
 
 impl<S: ImplicitMethod> StiffIntegrator<S> {
-    /// The loop for `model` around the method `make` builds for the band of the
-    /// model's Jacobian (from its sparsity pattern), with all its memory.
-    pub fn new<M: Model>(model: &M, make: impl FnOnce(Band) -> S, settings: Common) -> Self {
+    /// The loop for `model` around the method `make` builds for the structure of the
+    /// model's iteration matrices (from its Jacobian's sparsity pattern), with all its
+    /// memory.
+    pub fn new<M: Model>(model: &M, make: impl FnOnce(&Structure) -> S, settings: Common) -> Self {
         let n = M::N_STATES;
         let evaluator = JacobianEvaluator::new(model);
-        let pattern = evaluator.pattern();
-        let band = Band::of_pattern(n, |i| pattern.row(i));
+        let structure = Structure::of_pattern(evaluator.pattern());
         StiffIntegrator {
-            method: make(band),
+            method: make(&structure),
             settings,
             evaluator,
             jac: vec![0.0; n * n],
@@ -172,6 +198,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             factored_h: None,
             jac_current: false,
             jac_keep: false,
+            jac_new: true,
             first: true,
             last_rejected: false,
             h_acc: 0.0,
@@ -194,6 +221,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
     ) -> Result<(), SolverError> {
         self.started = Instant::now();
         self.method.restart();
+        self.evaluator.restart();
         self.factored_h = None;
         self.jac_current = false;
         self.jac_keep = false;
@@ -259,9 +287,14 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             }
             self.jac_keep = false;
             if self.factored_h != Some(h) {
-                match self.method.factor(h, &self.jac) {
-                    Ok(count) => {
-                        stats.n_lu += count;
+                let mut count = LuCount::default();
+                let new_jacobian = self.jac_new;
+                self.jac_new = false;
+                let factored = self.method.factor(h, &self.jac, new_jacobian, &mut count);
+                stats.n_lu += count.lu;
+                stats.n_lu_fallback += count.fallback;
+                match factored {
+                    Ok(()) => {
                         self.factored_h = Some(h);
                         self.singular_in_a_row = 0;
                     }
@@ -392,9 +425,27 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         stats: &mut Stats,
     ) -> Result<(), SolverError> {
         let n = x.len();
-        stats.n_jac_rhs += self.evaluator.evaluate(model, t, x, &mut self.jac);
+        let derivatives = self
+            .evaluator
+            .evaluate_numerical(model, t, x, &mut self.jac);
+        stats.n_jac_rhs += derivatives;
         stats.n_jac += 1;
-        if let Some(k) = self.jac.iter().position(|v| !v.is_finite()) {
+        // The first non-finite entry, row by row. Differentiation writes only the
+        // entries of a sparse pattern (the rest stay zero): only those are looked at.
+        let pattern = self.evaluator.pattern();
+        let jac = &self.jac;
+        let non_finite = if derivatives > 0 && !pattern.is_dense() {
+            (0..n).find_map(|i| {
+                let j = pattern
+                    .row(i)
+                    .iter()
+                    .find(|&&j| !jac[i * n + j].is_finite())?;
+                Some(i * n + j)
+            })
+        } else {
+            jac.iter().position(|v| !v.is_finite())
+        };
+        if let Some(k) = non_finite {
             let name = |i: usize| M::STATE_NAMES.get(i).copied().unwrap_or("?");
             return Err(SolverError::NonFiniteJacobian {
                 t,
@@ -407,6 +458,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             self.time_derivative(model, t, x, stats)?;
         }
         self.jac_current = true;
+        self.jac_new = true;
         self.factored_h = None;
         Ok(())
     }

@@ -26,8 +26,8 @@
 //! RADAU5, checked in this module's tests against `A^-1` computed from the Butcher
 //! tableau.
 
-use super::{eval, rms, Attempt, ImplicitMethod, Radau5Options, StepStart};
-use crate::linalg::{Band, ComplexLu, Lu, Singular};
+use super::{eval, rms, Attempt, ImplicitMethod, LuCount, Radau5Options, StepStart};
+use crate::linalg::{RadauMatrices, Singular, Structure};
 use crate::model::Model;
 
 /// The transformation `T` (row-major) with `T^-1 A^-1 T` block diagonal. The published
@@ -119,8 +119,7 @@ pub(crate) struct Radau5 {
     safety: f64,
     reuse_below: f64,
     /// `E1 = (γ/h) I - J` and `E2 = ((α + iβ)/h) I - J`, factored.
-    e1: Lu,
-    e2: ComplexLu,
+    e: RadauMatrices,
     /// `fac1 = γ/h`, `alphn = α/h`, `betan = β/h` of the factored matrices.
     fac1: f64,
     alphn: f64,
@@ -151,9 +150,9 @@ pub(crate) struct Radau5 {
 }
 
 impl Radau5 {
-    /// The method for `n` states whose Jacobian lies in `band`, with settings `o`
-    /// (already validated).
-    pub fn new(n: usize, band: Band, o: &Radau5Options) -> Self {
+    /// The method for `n` states whose iteration matrices have `structure`, with
+    /// settings `o` (already validated).
+    pub fn new(n: usize, structure: &Structure, o: &Radau5Options) -> Self {
         let rtol = 0.1 * o.rtol.powf(2.0 / 3.0);
         let atol = rtol * (o.atol / o.rtol);
         let newton_tol = o
@@ -168,8 +167,7 @@ impl Radau5 {
             newton_tol,
             safety: o.safety,
             reuse_below: o.reuse_jacobian_below,
-            e1: Lu::new(band),
-            e2: ComplexLu::new(band),
+            e: RadauMatrices::new(structure),
             fac1: 0.0,
             alphn: 0.0,
             betan: 0.0,
@@ -234,7 +232,7 @@ impl Radau5 {
             self.err_rhs[i] = v;
             self.err_v[i] = v + start.f0[i];
         }
-        self.e1.solve(&mut self.err_v);
+        self.e.solve_real(&mut self.err_v);
         let scale = &self.scale;
         let mut err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
         if err >= 1.0 && (start.first || start.after_reject) {
@@ -247,7 +245,7 @@ impl Radau5 {
                 for (e, r) in self.err_v.iter_mut().zip(&self.err_rhs) {
                     *e += r;
                 }
-                self.e1.solve(&mut self.err_v);
+                self.e.solve_real(&mut self.err_v);
                 err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
             }
         }
@@ -263,17 +261,24 @@ impl ImplicitMethod for Radau5 {
     fn restart(&mut self) {
         self.have_dense = false;
         self.faccon = 1.0;
+        self.e.restart();
     }
 
-    fn factor(&mut self, h: f64, jac: &[f64]) -> Result<usize, Singular> {
+    fn factor(
+        &mut self,
+        h: f64,
+        jac: &[f64],
+        new_jacobian: bool,
+        count: &mut LuCount,
+    ) -> Result<(), Singular> {
         self.fac1 = self.k.gamma / h;
         self.alphn = self.k.alpha / h;
         self.betan = self.k.beta / h;
-        self.e1.set_shifted(self.fac1, jac);
-        self.e1.factor()?;
-        self.e2.set_shifted(self.alphn, self.betan, jac);
-        self.e2.factor()?;
-        Ok(2)
+        let shifts = [self.fac1, self.alphn, self.betan];
+        let factored = self.e.factor(shifts, jac, new_jacobian)?;
+        count.add(factored);
+        count.add(factored);
+        Ok(())
     }
 
     fn attempt<M: Model>(
@@ -326,8 +331,7 @@ impl ImplicitMethod for Radau5 {
                 r2[i] = f2 - alphn * w2[i] + betan * w3[i];
                 r3[i] = f3 - betan * w2[i] - alphn * w3[i];
             }
-            self.e1.solve(r1);
-            self.e2.solve(r2, r3);
+            self.e.solve_both(r1, r2, r3);
             iterations += 1;
             let scale = &self.scale;
             let mut sum = 0.0;
@@ -434,6 +438,7 @@ impl ImplicitMethod for Radau5 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::Band;
 
     /// The Radau IIA (order 5) Butcher matrix (HW II, Table IV.5.6).
     fn butcher() -> [[f64; 3]; 3] {
@@ -491,7 +496,11 @@ mod tests {
     #[test]
     fn dense_output_interpolates_the_stage_values() {
         let n = 1;
-        let mut m = Radau5::new(n, Band::dense(n), &Radau5Options::default());
+        let mut m = Radau5::new(
+            n,
+            &Structure::banded(Band::dense(n)),
+            &Radau5Options::default(),
+        );
         // Stage increments of some smooth function.
         let (h, t) = (0.5, 2.0);
         let u = |s: f64| (1.3 * s).sin() + s * s;

@@ -14,8 +14,8 @@
 //! Newton iteration. The continuous extension is
 //! `u(θ) = (1 - θ) x + θ (x_new + (1 - θ) (sum d2_j u_j + θ sum d3_j u_j))`.
 
-use super::{eval, rms, Attempt, ImplicitMethod, StepStart};
-use crate::linalg::{Band, Lu, Singular};
+use super::{eval, rms, Attempt, ImplicitMethod, LuCount, StepStart};
+use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
 
 /// A Rosenbrock method with `s` stages in the `u` variables above.
@@ -119,7 +119,7 @@ pub(crate) struct Rosenbrock {
     atol: f64,
     safety: f64,
     /// `1/(h γ) I - J`, factored.
-    lu: Lu,
+    lu: RealMatrix,
     /// Stage values `u_1..u_s`.
     u: Vec<Vec<f64>>,
     /// Stage argument; stage right-hand side.
@@ -134,12 +134,12 @@ pub(crate) struct Rosenbrock {
 }
 
 impl Rosenbrock {
-    /// The kernel for `tab`, `n` states whose Jacobian lies in `band`, tolerances
+    /// The kernel for `tab`, `n` states whose iteration matrices have `structure`, tolerances
     /// `rtol`, `atol` and the step-size controller's `safety` factor.
     pub fn new(
         tab: &'static RosenbrockTableau,
         n: usize,
-        band: Band,
+        structure: &Structure,
         rtol: f64,
         atol: f64,
         safety: f64,
@@ -150,7 +150,7 @@ impl Rosenbrock {
             rtol,
             atol,
             safety,
-            lu: Lu::new(band),
+            lu: RealMatrix::new(structure),
             u: (0..tab.alpha.len()).map(|_| v()).collect(),
             stage: v(),
             rhs: v(),
@@ -167,12 +167,22 @@ impl ImplicitMethod for Rosenbrock {
     /// The embedded method has order 3: the estimate is `O(h^4)`.
     const ERROR_EXPONENT: f64 = 0.25;
 
-    fn restart(&mut self) {}
+    fn restart(&mut self) {
+        self.lu.restart();
+    }
 
-    fn factor(&mut self, h: f64, jac: &[f64]) -> Result<usize, Singular> {
-        self.lu.set_shifted(1.0 / (h * self.tab.gamma), jac);
-        self.lu.factor()?;
-        Ok(1)
+    fn factor(
+        &mut self,
+        h: f64,
+        jac: &[f64],
+        new_jacobian: bool,
+        count: &mut LuCount,
+    ) -> Result<(), Singular> {
+        count.add(
+            self.lu
+                .factor(1.0 / (h * self.tab.gamma), jac, new_jacobian)?,
+        );
+        Ok(())
     }
 
     fn attempt<M: Model>(
@@ -280,6 +290,7 @@ impl ImplicitMethod for Rosenbrock {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::Band;
 
     /// One fixed step of `tab` for the scalar problem `y' = f(t, y)` with exact
     /// derivatives; returns the solution and the error estimate.
@@ -357,7 +368,14 @@ mod tests {
     /// The continuous extension reproduces both ends of the step.
     #[test]
     fn dense_output_matches_the_step_ends() {
-        let mut r = Rosenbrock::new(&RODAS4, 1, Band::dense(1), 1e-6, 1e-9, 0.9);
+        let mut r = Rosenbrock::new(
+            &RODAS4,
+            1,
+            &Structure::banded(Band::dense(1)),
+            1e-6,
+            1e-9,
+            0.9,
+        );
         r.u = (0..6).map(|i| vec![0.1 * i as f64 + 0.05]).collect();
         r.x_new = vec![2.5];
         let mut x = vec![1.5];

@@ -1,4 +1,4 @@
-//! LU factorization with partial pivoting, real and complex, for the iteration
+//! Banded LU factorization with partial pivoting, real and complex, for the iteration
 //! matrices `σ I - J` of the implicit solvers.
 //!
 //! Both factorizations work in place in storage allocated once by `new`; assembling,
@@ -17,13 +17,7 @@
 //! The complex factorization stores real and imaginary parts in two separate arrays
 //! ("split" storage), so that its row updates are real vector operations too.
 
-/// The factorization met a zero (or non-finite) pivot: the matrix is singular to
-/// working precision, or holds a NaN or an infinity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Singular {
-    /// The column whose pivot vanished.
-    pub column: usize,
-}
+use super::Singular;
 
 /// The band of an `n × n` matrix: entry `(i, j)` may be non-zero only if
 /// `i - kl <= j <= i + ku`.
@@ -58,6 +52,18 @@ impl Band {
             }
         }
         Band { n, kl, ku }
+    }
+
+    /// Multiply-adds of one real factorization (at most: partial pivoting may need
+    /// fewer).
+    pub fn flops(&self) -> usize {
+        let Band { n, kl, ku } = *self;
+        (0..n)
+            .map(|k| {
+                let below = kl.min(n - 1 - k);
+                below * ((kl + ku).min(n - 1 - k) + 1)
+            })
+            .sum()
     }
 
     /// The columns row `i` may hold during and after factorization: `[i - kl,
