@@ -3,7 +3,7 @@
 //!
 //! Regenerate the snapshots with `TRYBUILD=overwrite cargo test -p bgdsl-tests --test
 //! compile_fail`, then read every changed `.stderr`: the error must sit on the user's
-//! text, say how to mend it, and never be "proc macro panicked".
+//! text, say how to mend it, and never be a panic of the macro itself.
 
 #[test]
 fn ui() {

@@ -3,6 +3,7 @@
 //! the equations derived from it are ordered or reported as an algebraic loop; on
 //! failure, an exhaustive search over all stroke assignments confirms that no
 //! assignment meets every element's requirement.
+//! Test code only: declared `#[cfg(test)] mod proptests;` in `causality/mod.rs`.
 
 use proc_macro2::Span;
 use proptest::prelude::*;

@@ -1,4 +1,5 @@
 //! Causality asserted on the IR: which bond got which stroke, which element forced which.
+//! Test code only: declared `#[cfg(test)] mod tests;` in `causality/mod.rs`.
 
 use super::*;
 use crate::ir::Graph;
