@@ -144,24 +144,41 @@ impl Trajectory {
     /// synced and then renamed onto `path`. Either the whole file is written or `path`
     /// is left as it was, and no temporary file remains.
     pub fn write_csv(&self, path: impl AsRef<Path>) -> Result<(), CsvError> {
-        let path = path.as_ref();
-        let fail = |stage, source| CsvError {
-            path: path.to_path_buf(),
-            stage,
-            source,
-        };
-        let (tmp_path, file) =
-            create_temporary(path).map_err(|e| fail(CsvStage::CreateTemporary, e))?;
-        let guard = RemoveOnDrop(Some(tmp_path.clone()));
-        let mut writer = BufWriter::new(file);
-        self.write_csv_to(&mut writer)
-            .and_then(|()| writer.into_inner().map_err(io::IntoInnerError::into_error))
-            .and_then(|file| file.sync_all())
-            .map_err(|e| fail(CsvStage::Write, e))?;
-        fs::rename(&tmp_path, path).map_err(|e| fail(CsvStage::Rename, e))?;
-        guard.disarm();
-        Ok(())
+        write_atomically(path.as_ref(), |out| self.write_csv_to(out))
     }
+}
+
+/// Writes a file whole or not at all: `write` fills a new temporary file in the same
+/// directory, which is then flushed, synced and renamed onto `path` (and the directory
+/// synced, best effort, so the rename is durable too). On any error `path` is left as
+/// it was and the temporary file is removed.
+///
+/// # Errors
+///
+/// [`CsvError`] with `path` and the stage that failed.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> Result<(), CsvError> {
+    let fail = |stage, source| CsvError {
+        path: path.to_path_buf(),
+        stage,
+        source,
+    };
+    let (tmp_path, file) =
+        create_temporary(path).map_err(|e| fail(CsvStage::CreateTemporary, e))?;
+    let guard = RemoveOnDrop(Some(tmp_path.clone()));
+    let mut writer = BufWriter::with_capacity(1 << 16, file);
+    write(&mut writer)
+        .and_then(|()| writer.into_inner().map_err(io::IntoInnerError::into_error))
+        .and_then(|file| file.sync_all())
+        .map_err(|e| fail(CsvStage::Write, e))?;
+    fs::rename(&tmp_path, path).map_err(|e| fail(CsvStage::Rename, e))?;
+    guard.disarm();
+    if let Ok(dir) = File::open(directory_of(path)) {
+        let _ = dir.sync_all();
+    }
+    Ok(())
 }
 
 impl Recorder for Trajectory {
@@ -191,12 +208,20 @@ fn write_csv_field<W: Write>(out: &mut W, field: &str) -> io::Result<()> {
 
 /// Writes the shortest decimal that reads back to `v`: plain notation for moderate
 /// magnitudes, scientific otherwise (Rust's `{}` and `{:e}` both round-trip).
-fn write_number<W: Write>(out: &mut W, v: f64) -> io::Result<()> {
+pub fn write_number<W: Write>(out: &mut W, v: f64) -> io::Result<()> {
     let a = v.abs();
     if a == 0.0 || (1e-5..1e16).contains(&a) || !v.is_finite() {
         write!(out, "{v}")
     } else {
         write!(out, "{v:e}")
+    }
+}
+
+/// The directory `path` is in (`.` for a bare file name).
+fn directory_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
     }
 }
 
@@ -206,10 +231,7 @@ fn create_temporary(path: &Path) -> io::Result<(PathBuf, File)> {
     let name = path.file_name().ok_or_else(|| {
         io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file")
     })?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
+    let dir = directory_of(path);
     let mut attempts = 0;
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);

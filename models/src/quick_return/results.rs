@@ -15,12 +15,11 @@
 //! the unwrapped angle is recorded unchanged.
 
 use std::f64::consts::TAU;
-use std::fs::{self, File, OpenOptions};
-use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::io::{self, Write};
+use std::path::Path;
 
-use bgdsl_runtime::{Model, Recorder};
+use bgdsl_runtime::record::{write_atomically, write_number};
+use bgdsl_runtime::{CsvStage, Model, Recorder};
 
 use super::run::{Error, IoStage};
 
@@ -266,27 +265,15 @@ impl Results {
     ///
     /// [`Error::Io`] with the path and the operation that failed.
     pub fn write_csv(&self, path: impl AsRef<Path>) -> Result<(), Error> {
-        let path = path.as_ref();
-        let fail = |stage, source| Error::Io {
-            path: path.to_path_buf(),
-            stage,
-            source,
-        };
-        let (tmp_path, file) =
-            create_temporary(path).map_err(|e| fail(IoStage::CreateTemporary, e))?;
-        let guard = RemoveOnDrop(Some(tmp_path.clone()));
-        let mut writer = BufWriter::with_capacity(1 << 16, file);
-        self.write_csv_to(&mut writer)
-            .and_then(|()| writer.into_inner().map_err(io::IntoInnerError::into_error))
-            .and_then(|file| file.sync_all())
-            .map_err(|e| fail(IoStage::Write, e))?;
-        fs::rename(&tmp_path, path).map_err(|e| fail(IoStage::Rename, e))?;
-        guard.disarm();
-        // Best effort: make the rename itself durable. The file is complete either way.
-        if let Ok(dir) = File::open(directory_of(path)) {
-            let _ = dir.sync_all();
-        }
-        Ok(())
+        write_atomically(path.as_ref(), |out| self.write_csv_to(out)).map_err(|e| Error::Io {
+            stage: match e.stage {
+                CsvStage::CreateTemporary => IoStage::CreateTemporary,
+                CsvStage::Write => IoStage::Write,
+                CsvStage::Rename => IoStage::Rename,
+            },
+            path: e.path,
+            source: e.source,
+        })
     }
 }
 
@@ -327,68 +314,6 @@ impl Results {
             raw
         } else {
             raw + self.turns as f64 * TAU
-        }
-    }
-}
-
-/// Writes the shortest decimal that reads back to `v`: plain notation for moderate
-/// magnitudes, scientific otherwise (Rust's `{}` and `{:e}` both round-trip).
-fn write_number<W: Write>(out: &mut W, v: f64) -> io::Result<()> {
-    let a = v.abs();
-    if a == 0.0 || (1e-5..1e16).contains(&a) || !v.is_finite() {
-        write!(out, "{v}")
-    } else {
-        write!(out, "{v:e}")
-    }
-}
-
-/// The directory `path` is in (`.` for a bare file name).
-fn directory_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    }
-}
-
-/// Creates a new, uniquely named temporary file (`.<name>.<pid>.<n>.tmp`) in the
-/// directory of `path`.
-fn create_temporary(path: &Path) -> io::Result<(PathBuf, File)> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file")
-    })?;
-    let dir = directory_of(path);
-    let mut attempts = 0;
-    loop {
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let mut tmp_name = std::ffi::OsString::from(".");
-        tmp_name.push(name);
-        tmp_name.push(format!(".{}.{n}.tmp", std::process::id()));
-        let tmp = dir.join(tmp_name);
-        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(file) => return Ok((tmp, file)),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempts < 100 => {
-                attempts += 1;
-            }
-            Err(e) => return Err(e),
-        }
-    }
-}
-
-/// Deletes a temporary file unless disarmed.
-struct RemoveOnDrop(Option<PathBuf>);
-
-impl RemoveOnDrop {
-    fn disarm(mut self) {
-        self.0 = None;
-    }
-}
-
-impl Drop for RemoveOnDrop {
-    fn drop(&mut self) {
-        if let Some(path) = self.0.take() {
-            // Best effort: the error being reported is the one that matters.
-            let _ = fs::remove_file(path);
         }
     }
 }
