@@ -263,39 +263,14 @@ impl DormandPrinceOptions {
             self.rtol > 0.0 || self.atol > 0.0,
             "a number > 0 when rtol is 0",
         )?;
-        if let Some(h) = self.initial_step {
-            check(
-                "initial_step",
-                h,
-                h.is_finite() && h > 0.0,
-                "a finite number > 0",
-            )?;
-        }
-        check(
-            "max_step",
-            self.max_step,
-            self.max_step > 0.0,
-            "a number > 0 (infinity allowed)",
-        )?;
-        check_budget(self.max_steps)?;
-        check(
-            "safety",
-            self.safety,
-            self.safety > 0.0 && self.safety < 1.0,
-            "a number in (0, 1)",
-        )?;
-        check(
-            "min_factor",
-            self.min_factor,
-            self.min_factor > 0.0 && self.min_factor <= 1.0,
-            "a number in (0, 1]",
-        )?;
-        check(
-            "max_factor",
-            self.max_factor,
-            self.max_factor.is_finite() && self.max_factor >= 1.0,
-            "a finite number >= 1",
-        )?;
+        check_step_control(StepControl {
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            safety: self.safety,
+            min_factor: self.min_factor,
+            max_factor: self.max_factor,
+        })?;
         check(
             "beta",
             self.beta,
@@ -320,6 +295,53 @@ pub(super) fn check(
             expected,
         })
     }
+}
+
+/// The step-size control settings every adaptive method shares.
+pub(super) struct StepControl {
+    pub(super) initial_step: Option<f64>,
+    pub(super) max_step: f64,
+    pub(super) max_steps: usize,
+    pub(super) safety: f64,
+    pub(super) min_factor: f64,
+    pub(super) max_factor: f64,
+}
+
+/// Checks the settings every adaptive method shares.
+pub(super) fn check_step_control(control: StepControl) -> Result<(), SolverError> {
+    if let Some(h) = control.initial_step {
+        check(
+            "initial_step",
+            h,
+            h.is_finite() && h > 0.0,
+            "a finite number > 0",
+        )?;
+    }
+    check(
+        "max_step",
+        control.max_step,
+        control.max_step > 0.0,
+        "a number > 0 (infinity allowed)",
+    )?;
+    check_budget(control.max_steps)?;
+    check(
+        "safety",
+        control.safety,
+        control.safety > 0.0 && control.safety < 1.0,
+        "a number in (0, 1)",
+    )?;
+    check(
+        "min_factor",
+        control.min_factor,
+        control.min_factor > 0.0 && control.min_factor <= 1.0,
+        "a number in (0, 1]",
+    )?;
+    check(
+        "max_factor",
+        control.max_factor,
+        control.max_factor.is_finite() && control.max_factor >= 1.0,
+        "a finite number >= 1",
+    )
 }
 
 pub(super) fn check_budget(max_steps: usize) -> Result<(), SolverError> {

@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use super::super::options::{check, check_budget};
+use super::super::options::{check, check_step_control, StepControl};
 use crate::error::SolverError;
 
 /// Settings of [`Solver::Radau5`](crate::Solver::Radau5), the three-stage Radau IIA
@@ -283,38 +283,13 @@ impl Common {
             "a finite number > 0 (the stiff methods scale their norms by atol + rtol |x|, \
              which must not vanish)",
         )?;
-        if let Some(h) = self.initial_step {
-            check(
-                "initial_step",
-                h,
-                h.is_finite() && h > 0.0,
-                "a finite number > 0",
-            )?;
-        }
-        check(
-            "max_step",
-            self.max_step,
-            self.max_step > 0.0,
-            "a number > 0 (infinity allowed)",
-        )?;
-        check_budget(self.max_steps)?;
-        check(
-            "safety",
-            self.safety,
-            self.safety > 0.0 && self.safety < 1.0,
-            "a number in (0, 1)",
-        )?;
-        check(
-            "min_factor",
-            self.min_factor,
-            self.min_factor > 0.0 && self.min_factor <= 1.0,
-            "a number in (0, 1]",
-        )?;
-        check(
-            "max_factor",
-            self.max_factor,
-            self.max_factor.is_finite() && self.max_factor >= 1.0,
-            "a finite number >= 1",
-        )
+        check_step_control(StepControl {
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            safety: self.safety,
+            min_factor: self.min_factor,
+            max_factor: self.max_factor,
+        })
     }
 }
