@@ -204,84 +204,115 @@ impl num_traits::One for Dual {
     }
 }
 
+/// The rules that are the same for one tangent ([`Dual`]) and for N ([`DualN`]): each
+/// is the value and the slope of an elementary function, applied by the type's own
+/// `chain` (or `chain_guarded`, which keeps a zero tangent zero where the slope is
+/// infinite).
+macro_rules! chain_rules {
+    () => {
+        #[inline(always)]
+        fn from_f64(value: f64) -> Self {
+            Self::constant(value)
+        }
+        #[inline(always)]
+        fn to_f64(self) -> f64 {
+            self.re
+        }
+        /// `√x' = x' / (2√x)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
+        #[inline]
+        fn sqrt(self) -> Self {
+            let r = self.re.sqrt();
+            self.chain_guarded(r, 0.5 / r)
+        }
+        /// `∛x' = x' / (3 ∛x²)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
+        #[inline]
+        fn cbrt(self) -> Self {
+            let r = self.re.cbrt();
+            self.chain_guarded(r, 1.0 / (3.0 * r * r))
+        }
+        #[inline]
+        fn exp(self) -> Self {
+            let e = self.re.exp();
+            self.chain(e, e)
+        }
+        /// `ln x' = x' / x` (a zero tangent stays zero at `x = 0`, where the value is −∞).
+        #[inline]
+        fn ln(self) -> Self {
+            self.chain_guarded(self.re.ln(), 1.0 / self.re)
+        }
+        #[inline]
+        fn sin(self) -> Self {
+            let (s, c) = self.re.sin_cos();
+            self.chain(s, c)
+        }
+        #[inline]
+        fn cos(self) -> Self {
+            let (s, c) = self.re.sin_cos();
+            self.chain(c, -s)
+        }
+        /// `tan x' = x' (1 + tan² x)`.
+        #[inline]
+        fn tan(self) -> Self {
+            let t = self.re.tan();
+            self.chain(t, 1.0 + t * t)
+        }
+        /// `asin x' = x' / √(1 − x²)`; at `x = ±1` the slope is `+∞` (a zero tangent stays
+        /// zero).
+        #[inline]
+        fn asin(self) -> Self {
+            let x = self.re;
+            self.chain_guarded(x.asin(), 1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+        }
+        /// `acos x' = −x' / √(1 − x²)`; at `x = ±1` the slope is `−∞` (a zero tangent stays
+        /// zero).
+        #[inline]
+        fn acos(self) -> Self {
+            let x = self.re;
+            self.chain_guarded(x.acos(), -1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+        }
+        /// `atan x' = x' / (1 + x²)`.
+        #[inline]
+        fn atan(self) -> Self {
+            let x = self.re;
+            self.chain(x.atan(), 1.0 / (1.0 + x * x))
+        }
+        #[inline]
+        fn sinh(self) -> Self {
+            self.chain(self.re.sinh(), self.re.cosh())
+        }
+        #[inline]
+        fn cosh(self) -> Self {
+            self.chain(self.re.cosh(), self.re.sinh())
+        }
+        /// `tanh x' = x' / cosh² x`, which keeps full relative accuracy where `tanh x` is
+        /// close to ±1 (unlike `1 − tanh² x`).
+        #[inline]
+        fn tanh(self) -> Self {
+            let sech = 1.0 / self.re.cosh();
+            self.chain(self.re.tanh(), sech * sech)
+        }
+        /// `|x|' = sign(x) x'`; at `x = 0` (either sign of zero) the slope is 0.
+        #[inline]
+        fn abs(self) -> Self {
+            let slope = if self.re > 0.0 {
+                1.0
+            } else if self.re < 0.0 {
+                -1.0
+            } else {
+                0.0
+            };
+            self.chain(self.re.abs(), slope)
+        }
+        /// The value's `f64::signum`, with a zero tangent (also at the jump).
+        #[inline]
+        fn signum(self) -> Self {
+            Self::constant(self.re.signum())
+        }
+    };
+}
+
 impl Scalar for Dual {
-    #[inline(always)]
-    fn from_f64(value: f64) -> Self {
-        Dual::constant(value)
-    }
-
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self.re
-    }
-
-    /// `√x' = x' / (2√x)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
-    #[inline]
-    fn sqrt(self) -> Self {
-        let r = self.re.sqrt();
-        self.chain_guarded(r, 0.5 / r)
-    }
-
-    /// `∛x' = x' / (3 ∛x²)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
-    #[inline]
-    fn cbrt(self) -> Self {
-        let r = self.re.cbrt();
-        self.chain_guarded(r, 1.0 / (3.0 * r * r))
-    }
-
-    #[inline]
-    fn exp(self) -> Self {
-        let e = self.re.exp();
-        self.chain(e, e)
-    }
-
-    /// `ln x' = x' / x` (a zero tangent stays zero at `x = 0`, where the value is −∞).
-    #[inline]
-    fn ln(self) -> Self {
-        self.chain_guarded(self.re.ln(), 1.0 / self.re)
-    }
-
-    #[inline]
-    fn sin(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(s, c)
-    }
-
-    #[inline]
-    fn cos(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(c, -s)
-    }
-
-    /// `tan x' = x' (1 + tan² x)`.
-    #[inline]
-    fn tan(self) -> Self {
-        let t = self.re.tan();
-        self.chain(t, 1.0 + t * t)
-    }
-
-    /// `asin x' = x' / √(1 − x²)`; at `x = ±1` the slope is `+∞` (a zero tangent stays
-    /// zero).
-    #[inline]
-    fn asin(self) -> Self {
-        let x = self.re;
-        self.chain_guarded(x.asin(), 1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
-    }
-
-    /// `acos x' = −x' / √(1 − x²)`; at `x = ±1` the slope is `−∞` (a zero tangent stays
-    /// zero).
-    #[inline]
-    fn acos(self) -> Self {
-        let x = self.re;
-        self.chain_guarded(x.acos(), -1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
-    }
-
-    /// `atan x' = x' / (1 + x²)`.
-    #[inline]
-    fn atan(self) -> Self {
-        let x = self.re;
-        self.chain(x.atan(), 1.0 / (1.0 + x * x))
-    }
+    chain_rules!();
 
     /// `atan2(y, x)' = (x y' − y x') / (x² + y²)`, computed with `r = hypot(x, y)` so it
     /// neither overflows nor underflows. At the origin (where `atan2` jumps) the tangent
@@ -296,43 +327,6 @@ impl Scalar for Dual {
         let r = y.re.hypot(x.re);
         let (c, s) = (x.re / r, y.re / r);
         Dual::new(value, (c * y.eps - s * x.eps) / r)
-    }
-
-    #[inline]
-    fn sinh(self) -> Self {
-        self.chain(self.re.sinh(), self.re.cosh())
-    }
-
-    #[inline]
-    fn cosh(self) -> Self {
-        self.chain(self.re.cosh(), self.re.sinh())
-    }
-
-    /// `tanh x' = x' / cosh² x`, which keeps full relative accuracy where `tanh x` is
-    /// close to ±1 (unlike `1 − tanh² x`).
-    #[inline]
-    fn tanh(self) -> Self {
-        let sech = 1.0 / self.re.cosh();
-        self.chain(self.re.tanh(), sech * sech)
-    }
-
-    /// `|x|' = sign(x) x'`; at `x = 0` (either sign of zero) the slope is 0.
-    #[inline]
-    fn abs(self) -> Self {
-        let slope = if self.re > 0.0 {
-            1.0
-        } else if self.re < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
-        self.chain(self.re.abs(), slope)
-    }
-
-    /// The value's `f64::signum`, with a zero tangent (also at the jump).
-    #[inline]
-    fn signum(self) -> Self {
-        Dual::constant(self.re.signum())
     }
 
     /// `(xⁿ)' = n xⁿ⁻¹ x'`; `x⁰` is the constant 1. At `x = 0` with `n < 0` the slope is
@@ -661,74 +655,7 @@ impl<const N: usize> num_traits::One for DualN<N> {
 /// Every method computes what [`Dual`]'s does, lane by lane (see [`DualN`] and the
 /// [module documentation](self) for the conventions).
 impl<const N: usize> Scalar for DualN<N> {
-    #[inline(always)]
-    fn from_f64(value: f64) -> Self {
-        DualN::constant(value)
-    }
-
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self.re
-    }
-
-    #[inline]
-    fn sqrt(self) -> Self {
-        let r = self.re.sqrt();
-        self.chain_guarded(r, 0.5 / r)
-    }
-
-    #[inline]
-    fn cbrt(self) -> Self {
-        let r = self.re.cbrt();
-        self.chain_guarded(r, 1.0 / (3.0 * r * r))
-    }
-
-    #[inline]
-    fn exp(self) -> Self {
-        let e = self.re.exp();
-        self.chain(e, e)
-    }
-
-    #[inline]
-    fn ln(self) -> Self {
-        self.chain_guarded(self.re.ln(), 1.0 / self.re)
-    }
-
-    #[inline]
-    fn sin(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(s, c)
-    }
-
-    #[inline]
-    fn cos(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(c, -s)
-    }
-
-    #[inline]
-    fn tan(self) -> Self {
-        let t = self.re.tan();
-        self.chain(t, 1.0 + t * t)
-    }
-
-    #[inline]
-    fn asin(self) -> Self {
-        let x = self.re;
-        self.chain_guarded(x.asin(), 1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
-    }
-
-    #[inline]
-    fn acos(self) -> Self {
-        let x = self.re;
-        self.chain_guarded(x.acos(), -1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
-    }
-
-    #[inline]
-    fn atan(self) -> Self {
-        let x = self.re;
-        self.chain(x.atan(), 1.0 / (1.0 + x * x))
-    }
+    chain_rules!();
 
     /// As [`Dual`]'s: a lane whose two tangents are zero gets a zero tangent (also at
     /// the origin).
@@ -747,39 +674,6 @@ impl<const N: usize> Scalar for DualN<N> {
             };
         }
         DualN::new(value, eps)
-    }
-
-    #[inline]
-    fn sinh(self) -> Self {
-        self.chain(self.re.sinh(), self.re.cosh())
-    }
-
-    #[inline]
-    fn cosh(self) -> Self {
-        self.chain(self.re.cosh(), self.re.sinh())
-    }
-
-    #[inline]
-    fn tanh(self) -> Self {
-        let sech = 1.0 / self.re.cosh();
-        self.chain(self.re.tanh(), sech * sech)
-    }
-
-    #[inline]
-    fn abs(self) -> Self {
-        let slope = if self.re > 0.0 {
-            1.0
-        } else if self.re < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
-        self.chain(self.re.abs(), slope)
-    }
-
-    #[inline]
-    fn signum(self) -> Self {
-        DualN::constant(self.re.signum())
     }
 
     #[inline]
