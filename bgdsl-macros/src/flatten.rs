@@ -83,6 +83,22 @@ pub fn flatten(
     submodels: &[&SubmodelDef],
     errors: &mut Vec<syn::Error>,
 ) -> TokenStream {
+    // The separator is reserved for the names instances give their parts.
+    let own = declared_idents(&body);
+    let library = submodels.iter().flat_map(|d| declared_idents(&d.body));
+    for name in own
+        .into_iter()
+        .chain(library)
+        .filter(|n| n.to_string().contains(SEPARATOR))
+    {
+        errors.push(syn::Error::new(
+            name.span(),
+            format!(
+                "`{name}`: names may not contain `{SEPARATOR}`, which is reserved for the \
+                 parts of submodel instances"
+            ),
+        ));
+    }
     let mut instances = BTreeSet::new();
     let flat = expand(body, submodels, errors, &mut instances, 0);
     merge_paths(flat, &instances)
@@ -262,7 +278,12 @@ fn is_name_path(expr: &syn::Expr) -> bool {
 /// The names a body declares: its elements, junctions, states, outputs, bond labels
 /// and nested instances.
 fn declared_names(body: &TokenStream) -> BTreeSet<String> {
-    let mut names = BTreeSet::new();
+    declared_idents(body).iter().map(Ident::to_string).collect()
+}
+
+/// [`declared_names`], as the identifiers written.
+fn declared_idents(body: &TokenStream) -> Vec<Ident> {
+    let mut names = Vec::new();
     for statement in statements(body.clone()) {
         let tokens = skip_attributes(&statement);
         let name = match tokens {
@@ -282,13 +303,13 @@ fn declared_names(body: &TokenStream) -> BTreeSet<String> {
             }
             _ => None,
         };
-        names.extend(name.map(|n| n.to_string()));
+        names.extend(name.cloned());
         // Bond labels: `- [label] ->`.
         for pair in tokens.windows(2) {
             if let [TokenTree::Punct(dash), TokenTree::Group(group)] = pair {
                 if dash.as_char() == '-' && group.delimiter() == Delimiter::Bracket {
                     if let Some(TokenTree::Ident(label)) = group.stream().into_iter().next() {
-                        names.insert(label.to_string());
+                        names.push(label);
                     }
                 }
             }
@@ -494,6 +515,16 @@ mod should {
         assert!(errors[0].starts_with("unknown submodel `Bdy`; the submodels are: Body"));
         assert!(errors[1].starts_with("submodel `Body` has no parameter `q`"));
         assert!(errors[2].starts_with("instance `b` of `Body` needs the parameter `l`"));
+    }
+
+    #[test]
+    fn reserve_the_separator_for_instance_parts() {
+        let (_, errors) = flat(
+            "submodel Body(m) { I p = m; }",
+            "C my__spring = 1.0; Body b(m = 1.0);",
+        );
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(errors[0].starts_with("`my__spring`: names may not contain `__`"));
     }
 
     #[test]
