@@ -28,8 +28,10 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             name: &p.name,
             shape: p.shape,
             default: &p.default,
+            unit: p.unit.as_ref(),
         })
         .collect();
+    let parameter_infos = parameter_infos(&params);
     let params_struct = params_struct(vis, name, &params);
     let params_ident = params_ident(name);
     let state_names: Vec<String> = equations
@@ -154,6 +156,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const NAME: &'static ::core::primitive::str = #name_str;
             const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[#(#state_names),*];
             const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[#(#output_names),*];
+            const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
                 ::core::option::Option::Some(&[#(#sparsity),*]);
 
@@ -222,10 +225,12 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
                 name: &p.name,
                 shape: p.shape,
                 default: &p.default,
+                unit: p.unit.as_ref(),
             }),
             _ => None,
         })
         .collect();
+    let parameter_infos = parameter_infos(&params);
     let params_struct = params_struct(vis, name, &params);
     let no_fields: &[Ident] = &[];
     let state = record_struct(
@@ -273,6 +278,7 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             const NAME: &'static ::core::primitive::str = #name_str;
             const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[];
             const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[];
+            const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
             fn params(&self) -> &#params_ident {
                 &self.params
             }
@@ -327,6 +333,28 @@ pub struct ParamDecl<'a> {
     pub shape: Shape,
     /// The default value.
     pub default: &'a Expr,
+    /// The declared unit.
+    pub unit: Option<&'a syn::LitStr>,
+}
+
+/// The entries of `Model::PARAMETERS`: name, unit, doc text and length of each
+/// parameter, in declaration order.
+fn parameter_infos(params: &[ParamDecl]) -> TokenStream {
+    let infos = params.iter().map(|p| {
+        let name = p.name.to_string();
+        let unit = p.unit.map(syn::LitStr::value).unwrap_or_default();
+        let doc = doc_text(p.attrs).unwrap_or_default();
+        let len = p.shape.len();
+        quote! {
+            ::bgdsl_runtime::ParameterInfo {
+                name: #name,
+                unit: #unit,
+                doc: #doc,
+                len: #len,
+            }
+        }
+    });
+    quote!(&[#(#infos),*])
 }
 
 fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> TokenStream {
@@ -337,10 +365,14 @@ fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> Token
         let attrs = p.attrs;
         let default = p.default;
         let default_text = quote!(#default).to_string();
+        let unit = p
+            .unit
+            .map(|u| format!(" Unit: {}.", u.value()))
+            .unwrap_or_default();
         let doc = if doc_text(attrs).is_some() {
-            format!("\n\nDefault: `{default_text}`.")
+            format!("\n\nDefault: `{default_text}`.{unit}")
         } else {
-            format!("Parameter `{name}`; default `{default_text}`.")
+            format!("Parameter `{name}`; default `{default_text}`.{unit}")
         };
         let ty = param_field_type(p.shape);
         quote!(#(#attrs)* #[doc = #doc] pub #name: #ty,)

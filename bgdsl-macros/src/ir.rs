@@ -61,6 +61,8 @@ pub struct Param {
     pub shape: Shape,
     /// The default value, an expression in earlier parameters.
     pub default: Expr,
+    /// Its unit as declared (`in "kg"`).
+    pub unit: Option<syn::LitStr>,
 }
 
 /// An element of the graph.

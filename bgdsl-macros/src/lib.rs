@@ -31,14 +31,14 @@ mod syntax;
 /// bond_graph! {
 ///     /// A mass on a spring with a damper, pushed by a constant force.
 ///     pub model Oscillator {
-///         /// mass, kg
-///         param m = 1.0;
-///         /// stiffness, N/m
-///         param k = 100.0;
-///         /// damping, N·s/m
-///         param c = 0.4;
-///         /// applied force, N
-///         param force = 1.0;
+///         /// mass
+///         param m = 1.0 in "kg";
+///         /// stiffness
+///         param k = 100.0 in "N/m";
+///         /// damping
+///         param c = 0.4 in "N·s/m";
+///         /// applied force
+///         param force = 1.0 in "N";
 ///
 ///         Se push = force;
 ///         I  mass = m;          // f = p / m
@@ -56,6 +56,7 @@ mod syntax;
 ///
 /// let model = Oscillator::default();
 /// assert_eq!(Oscillator::STATE_NAMES, ["mass.p", "spring.q"]);
+/// assert_eq!((Oscillator::PARAMETERS[1].name, Oscillator::PARAMETERS[1].unit), ("k", "N/m"));
 /// let mut x = [0.0; 2];
 /// model.initial_state(&mut x);
 /// let mut dx = [0.0; 2];
@@ -70,7 +71,8 @@ mod syntax;
 /// model     := doc* vis? "model" Name "{" statement* "}"
 /// submodel  := doc* "submodel" Name "(" param_decl ("," param_decl)* ")" "{" statement* "}"
 /// param_decl:= name (":" type)? ("=" default)?
-/// statement := doc* "param" name (":" type)? "=" expr ";"   parameter with default
+/// statement := doc* "param" name (":" type)? "=" expr ("in" "\"unit\"")? ";"
+///                                                          parameter, default, unit
 ///            | doc* KIND ("[" n "]")? name law? ";"          element (n: bond dimension)
 ///            | endpoint (arrow endpoint)+ ";"                bonds
 ///            | "init" element "." ("q" | "p") "=" expr ";"   initial state (default 0)

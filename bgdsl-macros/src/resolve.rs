@@ -127,6 +127,7 @@ impl Resolver {
                 name: param.name,
                 shape: param.shape,
                 default: param.default,
+                unit: param.unit,
             });
         }
     }

@@ -185,6 +185,8 @@ pub struct ParamDecl {
     pub shape: Shape,
     /// The default, an expression in earlier parameters.
     pub default: Expr,
+    /// Its unit, written `in "kg"` after the default.
+    pub unit: Option<syn::LitStr>,
 }
 
 /// The kind of an element, as the syntax names it.
@@ -486,11 +488,18 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         let shape = optional_shape(input)?.unwrap_or(Shape::Scalar);
         input.parse::<Token![=]>()?;
         let default = input.parse()?;
+        let unit = if input.peek(Token![in]) {
+            input.parse::<Token![in]>()?;
+            Some(input.parse()?)
+        } else {
+            None
+        };
         Stmt::Param(ParamDecl {
             attrs,
             name,
             shape,
             default,
+            unit,
         })
     } else if lookahead.peek(kw::state) {
         no_attrs(&attrs, "a `state` statement")?;

@@ -131,6 +131,11 @@ pub enum SolverError {
         /// The limit.
         limit: Duration,
     },
+    /// The recorder asked the run to stop ([`Recorder::stop_requested`](crate::Recorder::stop_requested)).
+    Stopped {
+        /// The time of the last sample recorded.
+        t: f64,
+    },
 }
 
 /// Which value was non-finite in [`SolverError::NonFiniteState`].
@@ -303,6 +308,9 @@ impl fmt::Display for SolverError {
                 elapsed.as_secs_f64(),
                 limit.as_secs_f64()
             ),
+            SolverError::Stopped { t } => {
+                write!(f, "stopped on request after the sample at t = {}", Num(*t))
+            }
         }
     }
 }

@@ -27,7 +27,7 @@ pub use dual::{Dual, DualN};
 pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
-pub use model::{Model, PowerBalance};
+pub use model::{Model, ParameterInfo, PowerBalance};
 pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;
 pub use solver::{

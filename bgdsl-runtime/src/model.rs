@@ -28,6 +28,9 @@ pub trait Model {
     const N_STATES: usize = Self::STATE_NAMES.len();
     /// Length of the output vector.
     const N_OUTPUTS: usize = Self::OUTPUT_NAMES.len();
+    /// The parameters in declaration order, with their units and documentation (empty
+    /// for a model that does not describe them).
+    const PARAMETERS: &'static [ParameterInfo] = &[];
 
     /// The parameters the model evaluates with.
     fn params(&self) -> &Self::Params;
@@ -78,6 +81,19 @@ pub trait Model {
     fn causal_graph(&self) -> Option<&'static CausalGraph> {
         None
     }
+}
+
+/// What a model says about one of its parameters (see [`Model::PARAMETERS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParameterInfo {
+    /// The name, as the parameter struct's field and in scenario files.
+    pub name: &'static str,
+    /// The unit as declared (`param m = 1.0 in "kg";`), empty when none was.
+    pub unit: &'static str,
+    /// The parameter's doc comment, empty when it has none.
+    pub doc: &'static str,
+    /// How many numbers it holds: 1 for a scalar, 3 for `[f64; 3]`, 9 for a 3×3 matrix.
+    pub len: usize,
 }
 
 /// A model's energy account at one instant (see [`Model::power_balance`]).

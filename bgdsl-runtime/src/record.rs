@@ -18,6 +18,13 @@ pub trait Recorder {
     /// [`Model::STATE_NAMES`]) and the outputs `y` (in the order of
     /// [`Model::OUTPUT_NAMES`]).
     fn record(&mut self, t: f64, x: &[f64], y: &[f64]);
+
+    /// Asked after every sample: `true` ends the run there with
+    /// [`SolverError::Stopped`](crate::SolverError::Stopped), keeping what was recorded
+    /// (a host's interrupt, a progress bar's cancel button). Never, by default.
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 impl<F: FnMut(f64, &[f64], &[f64])> Recorder for F {

@@ -264,3 +264,45 @@ fn pure_relative_tolerance_from_a_zero_state_works() {
     assert!((sim.state()[0] - 3.0).abs() < 1e-12);
     assert!(stats.steps() < 20, "{stats:?}");
 }
+
+/// Keeps the samples it is given and asks to stop once it holds `stop_after`.
+struct StopAfter {
+    times: Vec<f64>,
+    stop_after: usize,
+}
+
+impl bgdsl_runtime::Recorder for StopAfter {
+    fn record(&mut self, t: f64, _x: &[f64], _y: &[f64]) {
+        self.times.push(t);
+    }
+    fn stop_requested(&self) -> bool {
+        self.times.len() >= self.stop_after
+    }
+}
+
+#[test]
+fn a_recorder_can_stop_every_kind_of_run_keeping_what_it_recorded() {
+    for solver in [
+        Solver::Rk4(FixedStep {
+            step: 1e-3,
+            ..Default::default()
+        }),
+        Solver::DormandPrince(DormandPrinceOptions::default()),
+        Solver::stiff(),
+        Solver::from_name("rodas4").expect("a known solver"),
+    ] {
+        let name = solver.name();
+        let mut sim = Simulation::new(&Oscillator, solver).expect("valid options");
+        let mut recorder = StopAfter {
+            times: Vec::new(),
+            stop_after: 4,
+        };
+        let result = sim.run_uniform(0.0, &[1.0, 0.0], 1.0, 11, &mut recorder);
+        assert_eq!(
+            result.err(),
+            Some(SolverError::Stopped { t: 0.3 }),
+            "{name}"
+        );
+        assert_eq!(recorder.times, [0.0, 0.1, 0.2, 0.3], "{name}");
+    }
+}

@@ -67,30 +67,30 @@ bond_graph! {
     /// In steady state (all accelerations zero), with `b = b_m + b_l / N²`:
     /// `ω_m = (k_t V − R_a τ_L / N) / (R_a b + k_t²)`, `i = (b ω_m + τ_L / N) / k_t`.
     pub model DcMotor {
-        /// supply voltage, V
-        param voltage = 12.0;
-        /// armature resistance, Ω
-        param resistance = 1.0;
-        /// armature inductance, H
-        param inductance = 0.5e-3;
-        /// torque constant, N·m/A (equal to the back-EMF constant in V·s/rad)
-        param torque_constant = 0.05;
-        /// rotor inertia, kg·m²
-        param rotor_inertia = 1.0e-5;
-        /// rotor viscous friction, N·m·s/rad
-        param rotor_friction = 1.0e-6;
+        /// supply voltage
+        param voltage = 12.0 in "V";
+        /// armature resistance
+        param resistance = 1.0 in "Ω";
+        /// armature inductance
+        param inductance = 0.5e-3 in "H";
+        /// torque constant (equal to the back-EMF constant in V·s/rad)
+        param torque_constant = 0.05 in "N·m/A";
+        /// rotor inertia
+        param rotor_inertia = 1.0e-5 in "kg·m²";
+        /// rotor viscous friction
+        param rotor_friction = 1.0e-6 in "N·m·s/rad";
         /// gear reduction, motor turns per load turn
-        param gear_ratio = 10.0;
-        /// output-shaft torsional stiffness, N·m/rad
-        param shaft_stiffness = 50.0;
-        /// output-shaft internal damping, N·m·s/rad
-        param shaft_damping = 0.02;
-        /// load inertia, kg·m²
-        param load_inertia = 1.0e-3;
-        /// load viscous friction, N·m·s/rad
-        param load_friction = 1.0e-4;
-        /// constant load torque opposing the rotation, N·m
-        param load_torque = 0.05;
+        param gear_ratio = 10.0 in "1";
+        /// output-shaft torsional stiffness
+        param shaft_stiffness = 50.0 in "N·m/rad";
+        /// output-shaft internal damping
+        param shaft_damping = 0.02 in "N·m·s/rad";
+        /// load inertia
+        param load_inertia = 1.0e-3 in "kg·m²";
+        /// load viscous friction
+        param load_friction = 1.0e-4 in "N·m·s/rad";
+        /// constant load torque opposing the rotation
+        param load_torque = 0.05 in "N·m";
 
         Se supply = voltage;
         1  armature;                               // the armature current

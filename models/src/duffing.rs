@@ -39,20 +39,20 @@ bond_graph! {
     /// `4 K(μ) / √(k/m + k3 A²/m)` with `μ = k3 A² / (2 (k + k3 A²))` (`K`: the complete
     /// elliptic integral of the first kind, parameter convention).
     pub model Duffing {
-        /// mass, kg
-        param m = 1.0;
-        /// linear stiffness, N/m
-        param k = 1.0;
-        /// cubic stiffness, N/m³
-        param k3 = 1.0;
-        /// damping coefficient, N·s/m
-        param c = 0.1;
-        /// amplitude of the driving force, N
-        param force = 0.5;
-        /// angular frequency of the driving force, rad/s
-        param omega = 1.2;
-        /// initial displacement, m
-        param x0 = 1.0;
+        /// mass
+        param m = 1.0 in "kg";
+        /// linear stiffness
+        param k = 1.0 in "N/m";
+        /// cubic stiffness
+        param k3 = 1.0 in "N/m³";
+        /// damping coefficient
+        param c = 0.1 in "N·s/m";
+        /// amplitude of the driving force
+        param force = 0.5 in "N";
+        /// angular frequency of the driving force
+        param omega = 1.2 in "rad/s";
+        /// initial displacement
+        param x0 = 1.0 in "m";
 
         Se drive = force * (omega * t).cos();
         I  mass = m;

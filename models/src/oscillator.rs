@@ -35,14 +35,14 @@ bond_graph! {
     /// | `c` | damping coefficient | N·s/m |
     /// | `force` | applied force | N |
     pub model Oscillator {
-        /// mass, kg
-        param m = 1.0;
-        /// stiffness, N/m
-        param k = 100.0;
-        /// damping coefficient, N·s/m
-        param c = 0.4;
-        /// applied force, N
-        param force = 1.0;
+        /// mass
+        param m = 1.0 in "kg";
+        /// stiffness
+        param k = 100.0 in "N/m";
+        /// damping coefficient
+        param c = 0.4 in "N·s/m";
+        /// applied force
+        param force = 1.0 in "N";
 
         Se push = force;
         I  mass = m;          // f = p / m

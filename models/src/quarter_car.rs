@@ -60,30 +60,30 @@ bond_graph! {
     /// | `wave_amplitude` | amplitude of the sinusoidal undulation | m |
     /// | `wavelength` | wavelength of the undulation | m |
     pub model QuarterCar {
-        /// sprung mass (a quarter of the body), kg
-        param sprung_mass = 300.0;
-        /// unsprung mass (wheel, tyre, hub, brake), kg
-        param unsprung_mass = 40.0;
-        /// suspension spring rate, N/m
-        param suspension_stiffness = 20000.0;
-        /// suspension damping coefficient, N·s/m
-        param suspension_damping = 1500.0;
-        /// tyre vertical stiffness, N/m
-        param tyre_stiffness = 200000.0;
-        /// gravitational acceleration, m/s²
-        param g = 9.81;
-        /// forward speed, m/s
-        param speed = 10.0;
-        /// distance to the start of the bump at t = 0, m
-        param bump_distance = 5.0;
-        /// bump height, m
-        param bump_height = 0.05;
-        /// bump length, m
-        param bump_length = 2.0;
-        /// amplitude of the sinusoidal road undulation, m
-        param wave_amplitude = 0.0;
-        /// wavelength of the road undulation, m
-        param wavelength = 20.0;
+        /// sprung mass (a quarter of the body)
+        param sprung_mass = 300.0 in "kg";
+        /// unsprung mass (wheel, tyre, hub, brake)
+        param unsprung_mass = 40.0 in "kg";
+        /// suspension spring rate
+        param suspension_stiffness = 20000.0 in "N/m";
+        /// suspension damping coefficient
+        param suspension_damping = 1500.0 in "N·s/m";
+        /// tyre vertical stiffness
+        param tyre_stiffness = 200000.0 in "N/m";
+        /// gravitational acceleration
+        param g = 9.81 in "m/s²";
+        /// forward speed
+        param speed = 10.0 in "m/s";
+        /// distance to the start of the bump at t = 0
+        param bump_distance = 5.0 in "m";
+        /// bump height
+        param bump_height = 0.05 in "m";
+        /// bump length
+        param bump_length = 2.0 in "m";
+        /// amplitude of the sinusoidal road undulation
+        param wave_amplitude = 0.0 in "m";
+        /// wavelength of the road undulation
+        param wavelength = 20.0 in "m";
 
         /// The vertical velocity of the road under the tyre.
         Sf road = {

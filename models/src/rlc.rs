@@ -37,14 +37,14 @@ bond_graph! {
     /// The defaults (10 Ω, 10 mH, 10 µF) give an underdamped circuit: natural angular
     /// frequency `1/√(L Cap)` ≈ 3162 rad/s, decay rate `R / 2L` = 500 1/s.
     pub model SeriesRlc {
-        /// source voltage, V
-        param voltage = 1.0;
-        /// series resistance, Ω
-        param resistance = 10.0;
-        /// inductance, H
-        param inductance = 10.0e-3;
-        /// capacitance, F
-        param capacitance = 10.0e-6;
+        /// source voltage
+        param voltage = 1.0 in "V";
+        /// series resistance
+        param resistance = 10.0 in "Ω";
+        /// inductance
+        param inductance = 10.0e-3 in "H";
+        /// capacitance
+        param capacitance = 10.0e-6 in "F";
 
         Se source = voltage;
         R  resistor = resistance;               // v = R i

@@ -393,7 +393,7 @@ impl<'m, M: Model> Simulation<'m, M> {
                     k += 1;
                 }
             }
-            self.emit(ts, false, recorder);
+            self.emit(ts, false, recorder)?;
         }
         Ok(())
     }
@@ -409,7 +409,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         let n = samples.len();
         let mut next = 0;
         while next < n && samples.get(next) <= self.t {
-            self.emit(samples.get(next), false, recorder);
+            self.emit(samples.get(next), false, recorder)?;
             next += 1;
         }
         if next == n {
@@ -478,7 +478,7 @@ impl<'m, M: Model> Simulation<'m, M> {
                 self.t = t_new;
                 while next < n && samples.get(next) <= t_new {
                     let ts = samples.get(next);
-                    self.emit(ts, ts < t_new, recorder);
+                    self.emit(ts, ts < t_new, recorder)?;
                     next += 1;
                 }
                 if next == n {
@@ -503,7 +503,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         let n = samples.len();
         let mut next = 0;
         while next < n && samples.get(next) <= self.t {
-            self.emit(samples.get(next), false, recorder);
+            self.emit(samples.get(next), false, recorder)?;
             next += 1;
         }
         if next == n {
@@ -523,7 +523,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             let t_new = self.t;
             while next < n && samples.get(next) <= t_new {
                 let ts = samples.get(next);
-                self.emit(ts, ts < t_new, recorder);
+                self.emit(ts, ts < t_new, recorder)?;
                 next += 1;
             }
             if next == n {
@@ -534,7 +534,13 @@ impl<'m, M: Model> Simulation<'m, M> {
 
     /// Records the sample at `t`: the current state, or (`dense`) the continuous
     /// extension of the last step.
-    fn emit<R: Recorder + ?Sized>(&mut self, t: f64, dense: bool, recorder: &mut R) {
+    /// Fails with [`SolverError::Stopped`] when the recorder asks the run to stop.
+    fn emit<R: Recorder + ?Sized>(
+        &mut self,
+        t: f64,
+        dense: bool,
+        recorder: &mut R,
+    ) -> Result<(), SolverError> {
         let x = if dense {
             self.kernel.interpolate(t, &mut self.x_dense);
             &self.x_dense
@@ -543,6 +549,10 @@ impl<'m, M: Model> Simulation<'m, M> {
         };
         self.model.outputs::<f64>(t, x, &mut self.y);
         recorder.record(t, x, &self.y);
+        if recorder.stop_requested() {
+            return Err(SolverError::Stopped { t });
+        }
+        Ok(())
     }
 }
 

@@ -43,47 +43,61 @@ bond_graph! {
     /// The quick return mechanism: crank (1), slider (2) on the rocker arm (3),
     /// connecting rod (4) and output slider (5), joined by compliant joints.
     pub model QuickReturn {
-        /// link masses, kg (Table 1)
-        param m1 = 0.5;
-        param m2 = 0.1;
-        param m3 = 0.7;
-        param m4 = 0.3;
-        param m5 = 0.1;
-        /// link edge lengths (lx, ly, lz), m (Table 1)
-        param l1: [f64; 3] = [0.2, 0.01, 0.01];
-        param l2: [f64; 3] = [0.01, 0.01, 0.01];
-        param l3: [f64; 3] = [0.7, 0.01, 0.01];
-        param l4: [f64; 3] = [0.4, 0.01, 0.01];
-        param l5: [f64; 3] = [0.01, 0.01, 0.01];
-        /// distance from the crank pivot O1 down to the rocker pivot O3, m
-        param d = 0.4;
-        /// gravity along -Y0, m/s²
-        param g = 9.81;
-        /// drive speed, rad/s
-        param w_drive = 5.0;
-        /// initial crank angle, rad
-        param theta0 = core::f64::consts::FRAC_PI_2;
-        /// joint stiffnesses (N/m, N·m/rad) and damping (N·s/m, N·m·s/rad), Table 2
-        param K01 = 1.0e5;
-        param R01 = 20.0;
-        param K12 = 1.0e5;
-        param R12 = 20.0;
-        param K03 = 1.0e5;
-        param R03 = 20.0;
-        /// slider on the rocker, in frame 3: free along X3
-        param K3C: [f64; 3] = [0.0, 1.0e5, 1.0e5];
-        param R3C: [f64; 3] = [20.0, 20.0, 20.0];
-        param K23r = 100.0;
-        param R23r = 0.5;
-        param K_C = 100.0;
-        param R_C = 100.0;
-        param K34 = 1.0e5;
-        param R34 = 20.0;
-        param K45 = 1.0e5;
-        param R45 = 20.0;
-        /// output slider on its guide, in frame 0: free along X0
-        param K5C: [f64; 3] = [0.0, 1.0e5, 1.0e5];
-        param R5C: [f64; 3] = [20.0, 20.0, 20.0];
+        /// crank mass (Table 1)
+        param m1 = 0.5 in "kg";
+        /// slider mass (Table 1)
+        param m2 = 0.1 in "kg";
+        /// rocker mass (Table 1)
+        param m3 = 0.7 in "kg";
+        /// connecting-rod mass (Table 1)
+        param m4 = 0.3 in "kg";
+        /// output-slider mass (Table 1)
+        param m5 = 0.1 in "kg";
+        /// crank edge lengths (lx, ly, lz) (Table 1)
+        param l1: [f64; 3] = [0.2, 0.01, 0.01] in "m";
+        /// slider edge lengths (Table 1)
+        param l2: [f64; 3] = [0.01, 0.01, 0.01] in "m";
+        /// rocker edge lengths (Table 1)
+        param l3: [f64; 3] = [0.7, 0.01, 0.01] in "m";
+        /// connecting-rod edge lengths (Table 1)
+        param l4: [f64; 3] = [0.4, 0.01, 0.01] in "m";
+        /// output-slider edge lengths (Table 1)
+        param l5: [f64; 3] = [0.01, 0.01, 0.01] in "m";
+        /// distance from the crank pivot O1 down to the rocker pivot O3
+        param d = 0.4 in "m";
+        /// gravity, along -Y0
+        param g = 9.81 in "m/s²";
+        /// drive speed
+        param w_drive = 5.0 in "rad/s";
+        /// initial crank angle
+        param theta0 = core::f64::consts::FRAC_PI_2 in "rad";
+        /// crank pivot O1 to ground: stiffness, damping (Table 2)
+        param K01 = 1.0e5 in "N/m";
+        param R01 = 20.0 in "N·s/m";
+        /// crank pin A1 to slider: stiffness, damping (Table 2)
+        param K12 = 1.0e5 in "N/m";
+        param R12 = 20.0 in "N·s/m";
+        /// rocker pivot O3 to ground: stiffness, damping (Table 2)
+        param K03 = 1.0e5 in "N/m";
+        param R03 = 20.0 in "N·s/m";
+        /// slider on the rocker, in frame 3: free along X3 (Table 2)
+        param K3C: [f64; 3] = [0.0, 1.0e5, 1.0e5] in "N/m";
+        param R3C: [f64; 3] = [20.0, 20.0, 20.0] in "N·s/m";
+        /// slider's rotation locked to the rocker's (Table 2)
+        param K23r = 100.0 in "N·m/rad";
+        param R23r = 0.5 in "N·m·s/rad";
+        /// drive coupling to the crank (Table 2)
+        param K_C = 100.0 in "N·m/rad";
+        param R_C = 100.0 in "N·m·s/rad";
+        /// rocker tip A33 to connecting rod A4 (Table 2)
+        param K34 = 1.0e5 in "N/m";
+        param R34 = 20.0 in "N·s/m";
+        /// connecting rod B4 to output slider (Table 2)
+        param K45 = 1.0e5 in "N/m";
+        param R45 = 20.0 in "N·s/m";
+        /// output slider on its guide, in frame 0: free along X0 (Table 2)
+        param K5C: [f64; 3] = [0.0, 1.0e5, 1.0e5] in "N/m";
+        param R5C: [f64; 3] = [20.0, 20.0, 20.0] in "N·s/m";
         /// the rocker's point for K3C: 0 under the crank pin (the authors' choice),
         /// 1 under the slider's centre (the periodic one)
         param k3c_point_under_slider = 0.0;
