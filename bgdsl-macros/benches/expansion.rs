@@ -33,6 +33,8 @@ mod resolve;
 mod rewrite;
 #[path = "../src/signals.rs"]
 mod signals;
+#[path = "../src/split.rs"]
+mod split;
 #[path = "../src/stdlib.rs"]
 mod stdlib;
 #[path = "../src/syntax.rs"]

@@ -623,6 +623,15 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
             }
             Rhs::Sum(terms) if terms.is_empty() => zero(shape, &scalar),
             Rhs::Sum(terms) => sum(terms, span),
+            Rhs::Component { of, index } => {
+                let of = of.ident(span);
+                quote_spanned!(span=> #of[#index])
+            }
+            Rhs::Assemble(parts) => {
+                let n = parts.len();
+                let parts = parts.iter().map(|part| part.ident(span));
+                quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
+            }
             Rhs::Scaled { term, modulus, op } => {
                 let term = term_tokens(*term, span);
                 match (shape, op) {
@@ -686,6 +695,7 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             ElementKind::Gy => quote!(Gy),
             ElementKind::Zero => quote!(Zero),
             ElementKind::One => quote!(One),
+            ElementKind::Split => quote!(Split),
         };
         let element_causality = match causality.element[id.0] {
             ElementCausality::Integral => quote!(Integral),

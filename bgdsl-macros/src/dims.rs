@@ -1,6 +1,7 @@
 //! Stage 2b: the dimension of every bond. Bonds meeting at a junction, and the two
 //! ports of a TF or GY, share one dimension; an element declared `[n]` fixes the
-//! dimension of its bonds; what nothing fixes is a scalar bond. Two declarations that
+//! dimension of its bonds (a `Split[n]`: its multibond; its components are scalar); what
+//! nothing fixes is a scalar bond. Two declarations that
 //! disagree are reported at the second, with a note at the first.
 
 use crate::errors::Errors;
@@ -25,10 +26,16 @@ pub fn infer(graph: &mut Graph, errors: &mut Errors) {
     let mut fixed: Vec<Option<(usize, ElementId)>> = vec![None; graph.bonds.len()];
     for id in graph.element_ids() {
         let element = graph.element(id);
-        let Some((dimension, span)) = element.dimension else {
+        let Some((declared, span)) = element.dimension else {
             continue;
         };
-        for &bond in &element.bonds {
+        for (port, &bond) in element.bonds.iter().enumerate() {
+            // A splitter's components (every port after its multibond) are scalar.
+            let dimension = if element.kind == ElementKind::Split && port > 0 {
+                1
+            } else {
+                declared
+            };
             let root = groups.find(bond);
             match fixed[root.0] {
                 None => fixed[root.0] = Some((dimension, id)),
@@ -40,12 +47,16 @@ pub fn infer(graph: &mut Graph, errors: &mut Errors) {
                             format!("{n}-dimensional")
                         }
                     };
+                    let what = if element.kind == ElementKind::Split && port > 0 {
+                        format!("component {} of {} is", port - 1, graph.describe(id))
+                    } else {
+                        format!("{} is declared", graph.describe(id))
+                    };
                     errors.with_note(
                         span,
                         format!(
-                            "dimension mismatch: {} is declared {}, but its bonds connect it to {}, which is {}; \
+                            "dimension mismatch: {what} {}, but its bonds connect it to {}, which is {}; \
                              every bond at a junction, and both ports of a TF or GY, have one dimension",
-                            graph.describe(id),
                             size(dimension),
                             graph.describe(first),
                             size(other),

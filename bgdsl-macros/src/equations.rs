@@ -65,6 +65,16 @@ pub enum Rhs {
     },
     /// A sum of signed terms (junction equations; one term is a copy).
     Sum(Vec<Term>),
+    /// One component of a multibond variable (a splitter's scalar side).
+    Component {
+        /// The multibond variable.
+        of: Signal,
+        /// Which component.
+        index: usize,
+    },
+    /// A multibond variable made of scalar ones, in component order (a splitter's
+    /// multibond side).
+    Assemble(Vec<Signal>),
     /// A linear law or a two-port: the coefficient applied to a variable (for a scalar
     /// bond, multiplied or divided).
     Scaled {
@@ -268,6 +278,8 @@ impl Builder<'_> {
         match &rhs {
             Rhs::Law { bindings, .. } => bindings.iter().for_each(|(_, t)| add(t.signal)),
             Rhs::Sum(terms) => terms.iter().for_each(|t| add(t.signal)),
+            Rhs::Component { of, .. } => add(*of),
+            Rhs::Assemble(parts) => parts.iter().for_each(|&s| add(s)),
             Rhs::Scaled { term, .. } => add(term.signal),
         }
         self.equations.push(Equation {
@@ -394,7 +406,34 @@ impl Builder<'_> {
                 }
             }
             ElementKind::Zero | ElementKind::One => self.junction(id),
+            ElementKind::Split => self.splitter(id),
         }
+    }
+
+    /// A splitter copies each component across: effort from the side that brings it,
+    /// flow back the other way.
+    fn splitter(&mut self, id: ElementId) {
+        let bonds = &self.graph.element(id).bonds;
+        let Some((&whole, parts)) = bonds.split_first() else {
+            return;
+        };
+        type Variable = fn(BondId) -> Signal;
+        // Effort in on the multibond: each component's effort is read from it, and its
+        // flow is made of theirs; otherwise the other way round.
+        let (read, made): (Variable, Variable) = if self.stroke_at(whole) == id {
+            (Signal::Effort, Signal::Flow)
+        } else {
+            (Signal::Flow, Signal::Effort)
+        };
+        for (index, &part) in parts.iter().enumerate() {
+            let rhs = Rhs::Component {
+                of: read(whole),
+                index,
+            };
+            self.push(read(part), id, rhs, Vec::new());
+        }
+        let rhs = Rhs::Assemble(parts.iter().map(|&b| made(b)).collect());
+        self.push(made(whole), id, rhs, Vec::new());
     }
 
     fn passive(&mut self, id: ElementId) {

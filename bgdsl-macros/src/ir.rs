@@ -37,6 +37,21 @@ pub struct Graph {
     pub kinematics: Vec<Kinematic>,
     /// The dimension of each bond (1 for scalar bonds), once inferred.
     pub bond_dims: Vec<usize>,
+    /// Junctions and splitters taken apart into scalar components (see
+    /// [`crate::split`]); they keep their names but no bonds.
+    pub dissolved: Vec<Dissolved>,
+}
+
+/// A junction or splitter replaced by one scalar element per component (named
+/// `name__0`, `name__1`, ..., shown as `name.0`, ...).
+pub struct Dissolved {
+    /// The element, now without bonds.
+    pub element: ElementId,
+    /// Its components, in order.
+    pub components: Vec<ElementId>,
+    /// A multibond that still carries the junction's whole common variable (every bond
+    /// at a junction does), for laws that read it; none if all its bonds were split.
+    pub representative: Option<BondId>,
 }
 
 /// A kinematic state: integrated, but not the storage of an element.
@@ -166,6 +181,11 @@ pub struct Output {
 }
 
 impl Graph {
+    /// What `id` was taken apart into, if it was.
+    pub fn dissolved(&self, id: ElementId) -> Option<&Dissolved> {
+        self.dissolved.iter().find(|d| d.element == id)
+    }
+
     /// The element with this id.
     pub fn element(&self, id: ElementId) -> &Element {
         &self.elements[id.0]

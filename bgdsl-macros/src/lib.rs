@@ -20,6 +20,7 @@ mod power;
 mod resolve;
 mod rewrite;
 mod signals;
+mod split;
 mod stdlib;
 mod syntax;
 
@@ -80,14 +81,15 @@ mod syntax;
 ///            | "der" name "=" expr ";"                       its time derivative
 ///            | doc* "output" name (":" type)? "=" expr ";"   named output
 ///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
-/// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1"
+/// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1" | "Split"
 /// type      := "f64" | "Vector3" | "Matrix3" | "[f64; N]" | "[[f64; C]; R]"
 /// law       := "=" expr ("," "inverse" "=" expr)?          linear law or source value
 ///                                                          (inverse: TF/GY only)
 ///            | "{" form ("," form)* ","? "}"              explicit law
 /// form      := ("e" | "f") "=" expr
 /// endpoint  := path | "{" path ("," path)* ","? "}"        a group fans out or in
-/// path      := name ("." name)*                            `crank.v`: a port of an instance
+/// path      := name ("." name)* ("." n)?                   `crank.v`: a port of an instance;
+///                                                          `s.0`: component 0 of splitter `s`
 /// arrow     := "->" | "-[" label "]->"                     half arrow: power left to right
 /// ```
 ///
@@ -109,6 +111,17 @@ mod syntax;
 /// (`state R: Matrix3 = rot_z(theta0); der R = skew(w.f) * R;`) is integrated like
 /// storage; its name is a value in every expression. Vector and matrix outputs give one
 /// column per entry: `_x`, `_y`, `_z`, or `_rc` column by column.
+///
+/// ## Splitters
+///
+/// `Split[n] s;` joins an n-dimensional multibond (bonded to `s` itself) to its n scalar
+/// components (bonded to `s.0` .. `s.{n-1}`), and the components may take different
+/// causalities: an anchor driven along x (`Sf drive -> s.0`), held along y and pushed
+/// along z (`Se push -> s.2`). The junctions between a splitter and the elements that
+/// act on whole vectors (C, I, R, sources, TF) are taken apart into one scalar junction
+/// per component, so causality is assigned component by component there; a
+/// whole-vector element itself takes one causality for all its components (to let a
+/// damper's components differ, write it as scalar dampers behind a second splitter).
 ///
 /// ## Submodels
 ///

@@ -138,6 +138,6 @@ fn storage_law<'a>(
                 }
             }))
         }
-        Rhs::Sum(_) => None,
+        Rhs::Sum(_) | Rhs::Component { .. } | Rhs::Assemble(_) => None,
     }
 }

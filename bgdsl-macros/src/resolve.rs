@@ -34,7 +34,9 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
             outputs: Vec::new(),
             kinematics: Vec::new(),
             bond_dims: Vec::new(),
+            dissolved: Vec::new(),
         },
+        components: Vec::new(),
     };
     // Declarations first, so that bonds may name elements declared after them.
     let mut chains = Vec::new();
@@ -59,6 +61,7 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
     // A statement that did not parse or a name that did not resolve leaves elements
     // with bonds missing: counting them then would only report follow-on errors.
     if resolver.errors.is_empty() {
+        resolver.order_splitter_ports();
         resolver.check_ports();
     }
     for init in inits {
@@ -67,6 +70,9 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
     resolver.lint_expressions();
     if resolver.errors.is_empty() {
         crate::dims::infer(&mut resolver.graph, &mut resolver.errors);
+    }
+    if resolver.errors.is_empty() {
+        crate::split::dissolve(&mut resolver.graph, &mut resolver.errors);
     }
     resolver.errors.finish()?;
     Ok(resolver.graph)
@@ -90,6 +96,9 @@ struct Resolver {
     /// produce follow-on errors, so they are passed over quietly.
     poisoned: std::collections::BTreeSet<String>,
     graph: Graph,
+    /// Bonds attached to a splitter, with the component they were written at (`s.0`;
+    /// `None` for the multibond) and where.
+    components: Vec<(ElementId, Option<usize>, BondId, proc_macro2::Span)>,
 }
 
 impl Resolver {
@@ -204,7 +213,18 @@ impl Resolver {
         use ElementKind::*;
         let word = kind.word();
         match (kind, law) {
-            (Zero | One, _) => Law::None,
+            (Zero | One | Split, LawSyntax::None) => Law::None,
+            (Zero | One | Split, _) => {
+                let dimension = if kind == Split { "[n]" } else { "" };
+                self.errors.at(
+                    name.span(),
+                    format!(
+                        "{} `{name}` has no law: write `{word}{dimension} {name};`",
+                        kind.describe()
+                    ),
+                );
+                Law::None
+            }
             (_, LawSyntax::Linear(expr)) => Law::Linear(expr),
             (Se | Sf | Tf | Gy, LawSyntax::Forms(forms)) => {
                 let what = if matches!(kind, Se | Sf) {
@@ -335,16 +355,10 @@ impl Resolver {
     fn connect(&mut self, chain: crate::syntax::BondChain) {
         let mut left = chain.first;
         for (arrow, right) in chain.links {
-            let sources: Vec<Option<ElementId>> = left
-                .names()
-                .iter()
-                .map(|n| self.lookup_element(n))
-                .collect();
-            let targets: Vec<Option<ElementId>> = right
-                .names()
-                .iter()
-                .map(|n| self.lookup_element(n))
-                .collect();
+            let sources: Vec<Option<ElementId>> =
+                left.ports().iter().map(|p| self.lookup_port(p)).collect();
+            let targets: Vec<Option<ElementId>> =
+                right.ports().iter().map(|p| self.lookup_port(p)).collect();
             if sources.len() > 1 && targets.len() > 1 {
                 self.errors.at(
                     arrow.span,
@@ -360,19 +374,24 @@ impl Resolver {
                     Some(label) => self.claim(label, Named::Bond),
                     None => true,
                 };
-                for (from, from_name) in sources.iter().zip(left.names()) {
-                    for (to, to_name) in targets.iter().zip(right.names()) {
+                for (from, from_port) in sources.iter().zip(left.ports()) {
+                    for (to, to_port) in targets.iter().zip(right.ports()) {
                         let (Some(from), Some(to)) = (*from, *to) else {
                             continue;
                         };
                         if from == to {
                             self.errors.at(
-                                to_name.span(),
-                                format!("a bond from `{from_name}` to itself connects nothing"),
+                                to_port.name.span(),
+                                format!(
+                                    "a bond from `{}` to itself connects nothing",
+                                    from_port.name
+                                ),
                             );
                             continue;
                         }
                         let id = BondId(self.graph.bonds.len());
+                        self.note_component(from, from_port, id);
+                        self.note_component(to, to_port, id);
                         self.graph.bonds.push(Bond {
                             from,
                             to,
@@ -384,6 +403,133 @@ impl Resolver {
                 }
             }
             left = right;
+        }
+    }
+
+    /// An element named as a bond's end; `s.0` must name a splitter.
+    fn lookup_port(&mut self, port: &crate::syntax::Port) -> Option<ElementId> {
+        let id = self.lookup_element(&port.name)?;
+        let kind = self.graph.element(id).kind;
+        match &port.component {
+            Some(index) if kind != ElementKind::Split => {
+                self.errors.at(
+                    index.span(),
+                    format!(
+                        "`{}.{index}` names a component, but {} is not a splitter; \
+                         only a `Split[n]` element has components",
+                        port.name,
+                        self.graph.describe(id)
+                    ),
+                );
+                None
+            }
+            _ => Some(id),
+        }
+    }
+
+    /// Remembers a bond at a splitter, with the component it was written at.
+    fn note_component(&mut self, element: ElementId, port: &crate::syntax::Port, bond: BondId) {
+        if self.graph.element(element).kind != ElementKind::Split {
+            return;
+        }
+        let component = match &port.component {
+            Some(index) => match index.base10_parse::<usize>() {
+                Ok(i) => Some(i),
+                Err(error) => {
+                    self.errors.push(error);
+                    return;
+                }
+            },
+            None => None,
+        };
+        let span = port
+            .component
+            .as_ref()
+            .map_or(port.name.span(), |index| index.span());
+        self.components.push((element, component, bond, span));
+    }
+
+    /// Puts each splitter's bonds in port order: the multibond, then the components
+    /// `s.0`, `s.1`, ...; reports a splitter without a dimension, without its multibond
+    /// or with a component missing, repeated or out of range.
+    fn order_splitter_ports(&mut self) {
+        for index in 0..self.graph.elements.len() {
+            let id = ElementId(index);
+            let element = &self.graph.elements[index];
+            if element.kind != ElementKind::Split {
+                continue;
+            }
+            let name = element.name.clone();
+            let shown = crate::flatten::display(&name.to_string());
+            let Some((n, _)) = element.dimension else {
+                self.errors.at(
+                    name.span(),
+                    format!("splitter `{shown}` needs its dimension: `Split[3] {shown};`"),
+                );
+                continue;
+            };
+            let at_this: Vec<(Option<usize>, BondId, proc_macro2::Span)> = self
+                .components
+                .iter()
+                .filter(|c| c.0 == id)
+                .map(|&(_, component, bond, span)| (component, bond, span))
+                .collect();
+            let whole: Vec<&(Option<usize>, BondId, proc_macro2::Span)> =
+                at_this.iter().filter(|c| c.0.is_none()).collect();
+            let mut ports = vec![None; n + 1];
+            match whole.as_slice() {
+                [] => self.errors.at(
+                    name.span(),
+                    format!(
+                        "splitter `{shown}` has no multibond: connect the {n}-dimensional side \
+                         to `{shown}` itself (`... -> {shown}`) and the components to `{shown}.0` .. `{shown}.{}`",
+                        n - 1
+                    ),
+                ),
+                [(_, bond, _)] => ports[0] = Some(*bond),
+                [_, second, ..] => self.errors.at(
+                    second.2,
+                    format!(
+                        "splitter `{shown}` has one multibond; name a component for the others: `{shown}.0` .. `{shown}.{}`",
+                        n - 1
+                    ),
+                ),
+            }
+            for &(component, bond, span) in &at_this {
+                let Some(i) = component else { continue };
+                if i >= n {
+                    self.errors.at(
+                        span,
+                        format!(
+                            "splitter `{shown}` has components 0 to {}; there is no component {i}",
+                            n - 1
+                        ),
+                    );
+                } else if ports[i + 1].is_some() {
+                    self.errors.at(
+                        span,
+                        format!("component {i} of splitter `{shown}` is connected twice"),
+                    );
+                } else {
+                    ports[i + 1] = Some(bond);
+                }
+            }
+            let missing: Vec<String> = (0..n)
+                .filter(|&i| ports[i + 1].is_none())
+                .map(|i| format!("`{shown}.{i}`"))
+                .collect();
+            if !missing.is_empty() {
+                self.errors.at(
+                    name.span(),
+                    format!(
+                        "splitter `{shown}` leaves {} unconnected: every component needs its scalar bond",
+                        missing.join(", ")
+                    ),
+                );
+            }
+            if let Some(ordered) = ports.into_iter().collect::<Option<Vec<BondId>>>() {
+                self.graph.elements[index].bonds = ordered;
+            }
         }
     }
 
@@ -408,7 +554,7 @@ impl Resolver {
                 ElementKind::Zero | ElementKind::One if count < 2 => Some(format!(
                     "{what} has only one bond; a junction joins two or more bonds"
                 )),
-                ElementKind::Zero | ElementKind::One => None,
+                ElementKind::Zero | ElementKind::One | ElementKind::Split => None,
                 ElementKind::Tf | ElementKind::Gy if count != 2 => Some(format!(
                     "{what} has {count} bonds, but a two-port takes exactly 2 (one in, one out)"
                 )),

@@ -60,6 +60,9 @@ pub fn element_signal(
     member: &str,
 ) -> Result<Term, String> {
     let el = graph.element(element);
+    if let Some(dissolved) = graph.dissolved(element) {
+        return dissolved_signal(graph, el.kind, dissolved, member);
+    }
     let bond = |i: usize| el.bonds[i];
     // One-ports: power positive into passive elements, out of sources.
     let port_negated = || {
@@ -93,6 +96,22 @@ pub fn element_signal(
     term.ok_or_else(|| no_such_signal(&graph.describe(element), el.kind, member))
 }
 
+/// A junction's common variable after a splitter took it apart: any bond at a junction
+/// carries it whole, so the one kept as a multibond does.
+fn dissolved_signal(
+    graph: &Graph,
+    kind: ElementKind,
+    dissolved: &crate::ir::Dissolved,
+    member: &str,
+) -> Result<Term, String> {
+    let described = graph.describe(dissolved.element);
+    match (kind, member, dissolved.representative) {
+        (ElementKind::Zero, "e", Some(bond)) => Ok(Term::plus(Signal::Effort(bond))),
+        (ElementKind::One, "f", Some(bond)) => Ok(Term::plus(Signal::Flow(bond))),
+        _ => Err(no_such_signal(&described, kind, member)),
+    }
+}
+
 /// The message for `element.member` when the element has no such signal.
 fn no_such_signal(described: &str, kind: ElementKind, member: &str) -> String {
     let available = match kind {
@@ -102,6 +121,7 @@ fn no_such_signal(described: &str, kind: ElementKind, member: &str) -> String {
         ElementKind::Zero => "e (its common effort; name a bond `a -[b]-> c` to read a flow)",
         ElementKind::One => "f (its common flow; name a bond `a -[b]-> c` to read an effort)",
         ElementKind::Tf | ElementKind::Gy => "e1, f1, e2, f2",
+        ElementKind::Split => "none of its own (label a bond at it, `a -[b]-> s`, and read `b.e`)",
     };
     format!("{described} has no signal `{member}`; it has {available}")
 }
@@ -115,6 +135,7 @@ fn has_signal(kind: ElementKind, member: &str) -> bool {
         ElementKind::Zero => member == "e",
         ElementKind::One => member == "f",
         ElementKind::Tf | ElementKind::Gy => ["e1", "f1", "e2", "f2"].contains(&member),
+        ElementKind::Split => false,
     }
 }
 
@@ -312,6 +333,51 @@ impl Rewriter<'_, '_> {
     }
 }
 
+/// `SVector::from([c0, c1, ...])`: a vector made of its components' signals.
+fn assemble_tokens(parts: &[Term], span: Span) -> proc_macro2::TokenStream {
+    let n = parts.len();
+    let parts = parts.iter().map(|&part| term_tokens(part, span));
+    quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
+}
+
+impl Rewriter<'_, '_> {
+    /// The common variable of a junction a splitter took apart when no multibond at
+    /// it carries it whole: made of its scalar components' common variables.
+    fn assembled(&mut self, base: &Ident, member: &Ident) -> Option<Vec<Term>> {
+        let Some(Lookup::Element(id)) = self.lookup(base) else {
+            return None;
+        };
+        let graph = self.scope.graph;
+        let dissolved = graph.dissolved(id)?;
+        if dissolved.representative.is_some() {
+            return None;
+        }
+        let kind = graph.element(id).kind;
+        let signal: fn(crate::ir::BondId) -> Signal = match (kind, member.to_string().as_str()) {
+            (ElementKind::Zero, "e") => Signal::Effort,
+            (ElementKind::One, "f") => Signal::Flow,
+            _ => return None,
+        };
+        let parts: Vec<Term> = dissolved
+            .components
+            .iter()
+            .filter_map(|&c| {
+                graph
+                    .element(c)
+                    .bonds
+                    .first()
+                    .map(|&b| Term::plus(signal(b)))
+            })
+            .collect();
+        for part in &parts {
+            if !self.deps.contains(&part.signal) {
+                self.deps.push(part.signal);
+            }
+        }
+        Some(parts)
+    }
+}
+
 enum Lookup {
     Element(ElementId),
     Bond(crate::ir::BondId),
@@ -343,6 +409,10 @@ impl VisitMut for Rewriter<'_, '_> {
                 if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member)
                 {
                     let (base, member) = (base.clone(), member.clone());
+                    if let Some(parts) = self.assembled(&base, &member) {
+                        *expr = Expr::Verbatim(assemble_tokens(&parts, field.span()));
+                        return;
+                    }
                     if self.lookup(&base).is_some() {
                         if let Some(term) = self.signal(&base, &member) {
                             *expr = Expr::Verbatim(term_tokens(term, field.span()));

@@ -210,6 +210,8 @@ pub enum ElementKind {
     Zero,
     /// `1`
     One,
+    /// `Split`: a multibond and its scalar components.
+    Split,
 }
 
 impl ElementKind {
@@ -224,6 +226,7 @@ impl ElementKind {
             "R" => ElementKind::R,
             "TF" | "MTF" => ElementKind::Tf,
             "GY" | "MGY" => ElementKind::Gy,
+            "Split" => ElementKind::Split,
             _ => return None,
         })
     }
@@ -240,6 +243,7 @@ impl ElementKind {
             ElementKind::Gy => "GY",
             ElementKind::Zero => "0",
             ElementKind::One => "1",
+            ElementKind::Split => "Split",
         }
     }
 
@@ -255,6 +259,7 @@ impl ElementKind {
             ElementKind::Gy => "gyrator GY",
             ElementKind::Zero => "0-junction",
             ElementKind::One => "1-junction",
+            ElementKind::Split => "splitter",
         }
     }
 }
@@ -305,18 +310,39 @@ pub struct BondChain {
 /// One side of an arrow: an element or a braced group (fan-out / fan-in).
 pub enum Endpoint {
     /// A single element.
-    One(Ident),
+    One(Port),
     /// `{ a, b, c }`
-    Group(Vec<Ident>),
+    Group(Vec<Port>),
 }
 
 impl Endpoint {
-    /// The names on this side, in order.
-    pub fn names(&self) -> &[Ident] {
+    /// The ports on this side, in order.
+    pub fn ports(&self) -> &[Port] {
         match self {
-            Endpoint::One(name) => core::slice::from_ref(name),
-            Endpoint::Group(names) => names,
+            Endpoint::One(port) => core::slice::from_ref(port),
+            Endpoint::Group(ports) => ports,
         }
+    }
+}
+
+/// Where a bond attaches: an element, or one component of a splitter (`s.0`).
+pub struct Port {
+    /// The element.
+    pub name: Ident,
+    /// The component, for a splitter's scalar side.
+    pub component: Option<syn::LitInt>,
+}
+
+impl Parse for Port {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name = input.parse()?;
+        let component = if input.peek(Token![.]) && input.peek2(syn::LitInt) {
+            input.parse::<Token![.]>()?;
+            Some(input.parse()?)
+        } else {
+            None
+        };
+        Ok(Port { name, component })
     }
 }
 
@@ -736,7 +762,7 @@ impl Parse for Endpoint {
         } else if lookahead.peek(syn::token::Brace) {
             let body;
             let brace = braced!(body in input);
-            let names = parse_group(&body, |body| body.parse_terminated(Ident::parse, Token![,]))?;
+            let names = parse_group(&body, |body| body.parse_terminated(Port::parse, Token![,]))?;
             if names.is_empty() {
                 return Err(syn::Error::new(
                     brace.span.join(),
@@ -783,7 +809,7 @@ mod should {
             panic!("expected bonds")
         };
         assert_eq!(chain.links.len(), 2);
-        assert_eq!(chain.links[1].1.names().len(), 2);
+        assert_eq!(chain.links[1].1.ports().len(), 2);
     }
 
     #[test]

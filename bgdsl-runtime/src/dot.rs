@@ -85,7 +85,7 @@ impl Display for Dot<'_> {
             f,
             "  edge [dir=both, arrowhead=lvee, arrowtail=none, fontsize=10];"
         )?;
-        let tree = Tree::new(graph.elements);
+        let tree = Tree::new(graph);
         tree.write(f, graph.elements, 0, 1)?;
         for (index, bond) in graph.bonds.iter().enumerate() {
             let ends = graph.elements.len();
@@ -149,7 +149,9 @@ struct Cluster<'g> {
 }
 
 impl<'g> Tree<'g> {
-    fn new(elements: &'g [GraphElement]) -> Self {
+    /// Junctions without bonds (a submodel's unused port, a junction or splitter taken
+    /// apart into its components) are left out.
+    fn new(graph: &'g CausalGraph) -> Self {
         let root = Cluster {
             path: "",
             id: String::new(),
@@ -159,7 +161,20 @@ impl<'g> Tree<'g> {
         let mut tree = Tree {
             clusters: vec![root],
         };
-        for (index, element) in elements.iter().enumerate() {
+        let connected = |index: usize| {
+            graph
+                .bonds
+                .iter()
+                .any(|bond| bond.from == index || bond.to == index)
+        };
+        for (index, element) in graph.elements.iter().enumerate() {
+            let junction = matches!(
+                element.kind,
+                ElementKind::Zero | ElementKind::One | ElementKind::Split
+            );
+            if junction && !connected(index) {
+                continue;
+            }
             let cluster = tree.cluster(element.group);
             tree.clusters[cluster].elements.push(index);
         }

@@ -23,6 +23,8 @@ pub enum ElementKind {
     Zero,
     /// 1-junction (common flow).
     One,
+    /// Splitter: a multibond and its scalar components.
+    Split,
 }
 
 impl ElementKind {
@@ -38,6 +40,7 @@ impl ElementKind {
             ElementKind::Gy => "GY",
             ElementKind::Zero => "0",
             ElementKind::One => "1",
+            ElementKind::Split => "Split",
         }
     }
 }

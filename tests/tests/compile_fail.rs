@@ -25,6 +25,8 @@ fn ui() {
     cases.compile_fail("ui/multibond/*.rs");
     // Submodels: errors inside an instance point at the instantiation.
     cases.compile_fail("ui/submodel/*.rs");
+    // Splitters: ports, components and the causality a whole-vector element allows.
+    cases.compile_fail("ui/splitter/*.rs");
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }

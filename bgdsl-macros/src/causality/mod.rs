@@ -336,6 +336,7 @@ impl Scap<'_> {
                 match self.graph.element(end).kind {
                     ElementKind::Zero | ElementKind::One => self.junction_rule(end, bond)?,
                     ElementKind::Tf | ElementKind::Gy => self.two_port_rule(end, bond)?,
+                    ElementKind::Split => self.splitter_rule(end, bond)?,
                     _ => {}
                 }
             }
@@ -450,6 +451,51 @@ impl Scap<'_> {
                 at: Some(two_port),
             }),
         }
+    }
+
+    /// A splitter passes effort through every component the same way: its multibond
+    /// brings effort in exactly when its components carry it out. (Only the splitters
+    /// in front of whole-vector elements reach this stage; see [`crate::split`].)
+    fn splitter_rule(&mut self, splitter: ElementId, trigger: BondId) -> Result<(), Clash> {
+        let bonds = &self.graph.element(splitter).bonds;
+        let Some(stroke) = self.strokes[trigger.0] else {
+            return Ok(());
+        };
+        let whole = bonds[0];
+        let receives_whole = if trigger == whole {
+            stroke.at == splitter
+        } else {
+            // A component bringing effort in means the multibond carries it out.
+            stroke.at != splitter
+        };
+        let cause = Some((trigger, splitter));
+        for (port, &bond) in bonds.iter().enumerate() {
+            let receives = if port == 0 {
+                receives_whole
+            } else {
+                !receives_whole
+            };
+            let wanted = if receives {
+                splitter
+            } else {
+                self.graph.bond(bond).other(splitter)
+            };
+            match self.strokes[bond.0] {
+                None => self.set(bond, wanted, stroke.root, cause),
+                Some(existing) if existing.at == wanted => {}
+                Some(existing) => {
+                    return Err(Clash {
+                        first: if existing.root != stroke.root {
+                            existing.root
+                        } else {
+                            stroke.root
+                        },
+                        at: Some(splitter),
+                    })
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The elements from the choice that fixed `bond` to `target`.

@@ -85,6 +85,7 @@ fn build(recipe: &Recipe) -> Graph {
         outputs: Vec::new(),
         kinematics: Vec::new(),
         bond_dims: Vec::new(),
+        dissolved: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());
@@ -182,6 +183,10 @@ fn valid(graph: &Graph, stroke_at: &[ElementId]) -> Result<(), String> {
             ElementKind::One => element.bonds.iter().filter(|&&b| !at_self(b)).count() == 1,
             ElementKind::Tf => at_self(element.bonds[0]) != at_self(element.bonds[1]),
             ElementKind::Gy => at_self(element.bonds[0]) == at_self(element.bonds[1]),
+            // Effort in on the multibond exactly when it goes out on every component.
+            ElementKind::Split => element.bonds[1..]
+                .iter()
+                .all(|&b| at_self(b) != at_self(element.bonds[0])),
             ElementKind::Se | ElementKind::C => !at_self(element.bonds[0]),
             ElementKind::Sf | ElementKind::I => at_self(element.bonds[0]),
             ElementKind::R => match &element.law {

@@ -1,0 +1,21 @@
+// A 3-dimensional splitter has components 0, 1 and 2.
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    model M {
+        I[3] mass = 1.0;
+        1 v;
+        Sf a = 1.0;
+        Sf b = 0.0;
+        Sf c = 0.0;
+        Sf d = 0.0;
+        Split[3] s;
+        a -> s.0;
+        b -> s.1;
+        c -> s.2;
+        d -> s.3;
+        s -> v -> mass;
+    }
+}
+
+fn main() {}
