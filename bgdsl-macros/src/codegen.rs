@@ -29,9 +29,10 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             shape: p.shape,
             default: &p.default,
             unit: p.unit.as_ref(),
+            input: p.input,
         })
         .collect();
-    let parameter_infos = parameter_infos(&params);
+    let host = host_interface(vis, name, &params);
     let params_struct = params_struct(vis, name, &params);
     let params_ident = params_ident(name);
     let state_names: Vec<String> = equations
@@ -123,8 +124,16 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     };
     let attrs = &graph.attrs;
     let name_str = name.to_string();
+    let HostInterface {
+        inputs_struct,
+        inputs_ident,
+        parameter_infos,
+        model_items,
+        with_inputs,
+    } = host;
     quote! {
         #params_struct
+        #inputs_struct
 
         #(#attrs)*
         #model_doc
@@ -132,6 +141,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         #vis struct #name {
             /// The parameters the model evaluates with.
             pub params: #params_ident,
+            /// The inputs, set by the host between steps.
+            pub inputs: #inputs_ident,
         }
 
         impl #name {
@@ -142,8 +153,11 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             #graph_const
 
             /// The model with the given parameters.
-            pub const fn new(params: #params_ident) -> Self {
-                Self { params }
+            pub fn new(params: #params_ident) -> Self {
+                Self {
+                    params,
+                    inputs: ::core::default::Default::default(),
+                }
             }
         }
 
@@ -157,6 +171,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[#(#state_names),*];
             const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[#(#output_names),*];
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
+            #model_items
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
                 ::core::option::Option::Some(&[#(#sparsity),*]);
 
@@ -167,6 +182,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             #[allow(unused_variables, non_snake_case, clippy::all)]
             fn initial_state(&self, __x0: &mut [::core::primitive::f64]) {
                 ::core::assert_eq!(__x0.len(), #n_states, "state vector length");
+                #[allow(unused_imports)]
+                use ::bgdsl_runtime::Scalar as _;
                 #params_f64
                 #initial
             }
@@ -203,6 +220,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 ::core::option::Option::Some(&Self::GRAPH)
             }
         }
+
+        #with_inputs
     }
 }
 
@@ -220,17 +239,21 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
         .stmts
         .iter()
         .filter_map(|stmt| match stmt {
+            // An input that is not a number was reported; leaving it out of the stub
+            // spares a follow-on type error.
+            crate::syntax::Stmt::Param(p) if p.input && p.shape != Shape::Scalar => None,
             crate::syntax::Stmt::Param(p) if seen.insert(p.name.to_string()) => Some(ParamDecl {
                 attrs: &p.attrs,
                 name: &p.name,
                 shape: p.shape,
                 default: &p.default,
                 unit: p.unit.as_ref(),
+                input: p.input,
             }),
             _ => None,
         })
         .collect();
-    let parameter_infos = parameter_infos(&params);
+    let host = host_interface(vis, name, &params);
     let params_struct = params_struct(vis, name, &params);
     let no_fields: &[Ident] = &[];
     let state = record_struct(
@@ -247,8 +270,16 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
         no_fields,
         &[],
     );
+    let HostInterface {
+        inputs_struct,
+        inputs_ident,
+        parameter_infos,
+        model_items,
+        with_inputs,
+    } = host;
     quote! {
         #params_struct
+        #inputs_struct
         #state
         #outputs
 
@@ -257,6 +288,8 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
         #vis struct #name {
             /// The parameters.
             pub params: #params_ident,
+            /// The inputs.
+            pub inputs: #inputs_ident,
         }
 
         impl #name {
@@ -268,8 +301,11 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             pub const GRAPH: ::bgdsl_runtime::CausalGraph =
                 ::bgdsl_runtime::CausalGraph { model: #name_str, elements: &[], bonds: &[] };
             /// The model with the given parameters.
-            pub const fn new(params: #params_ident) -> Self {
-                Self { params }
+            pub fn new(params: #params_ident) -> Self {
+                Self {
+                    params,
+                    inputs: ::core::default::Default::default(),
+                }
             }
         }
 
@@ -279,6 +315,7 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[];
             const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[];
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
+            #model_items
             fn params(&self) -> &#params_ident {
                 &self.params
             }
@@ -286,6 +323,8 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, _: ::core::primitive::f64, _: &[Scalar], _: &mut [Scalar]) {}
             fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, _: ::core::primitive::f64, _: &[Scalar], _: &mut [Scalar]) {}
         }
+
+        #with_inputs
     }
 }
 
@@ -335,29 +374,170 @@ pub struct ParamDecl<'a> {
     pub default: &'a Expr,
     /// The declared unit.
     pub unit: Option<&'a syn::LitStr>,
+    /// Declared `input`.
+    pub input: bool,
 }
 
-/// The entries of `Model::PARAMETERS`: name, unit, doc text and length of each
-/// parameter, in declaration order.
-fn parameter_infos(params: &[ParamDecl]) -> TokenStream {
+/// What a host program sees of a model's parameters and inputs.
+struct HostInterface {
+    /// `FooInputs` and its `Default`.
+    inputs_struct: TokenStream,
+    /// `FooInputs`.
+    inputs_ident: Ident,
+    /// The value of `Model::PARAMETERS`.
+    parameter_infos: TokenStream,
+    /// `N_PARAMETER_VALUES` and the flat parameter access of `Model`.
+    model_items: TokenStream,
+    /// The `WithInputs` implementation.
+    with_inputs: TokenStream,
+}
+
+fn host_interface(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> HostInterface {
+    let (inputs, params): (Vec<&ParamDecl>, Vec<&ParamDecl>) =
+        declared.iter().partition(|p| p.input);
+    let inputs_ident = format_ident!("{}Inputs", model);
+    let f64_ty = quote!(::core::primitive::f64);
+    // Flat parameter access: each number in declaration order, matrices row by row.
+    let mut reads = Vec::new();
+    let mut writes = Vec::new();
+    let mut at = 0usize;
+    for p in &params {
+        let name = p.name;
+        let places: Vec<TokenStream> = match p.shape {
+            Shape::Scalar => vec![quote!()],
+            Shape::Vector(n) => (0..n).map(|i| quote!([#i])).collect(),
+            Shape::Matrix(r, c) => (0..r)
+                .flat_map(|i| (0..c).map(move |j| quote!([#i][#j])))
+                .collect(),
+        };
+        for place in places {
+            reads.push(quote!(__out[#at] = self.params.#name #place;));
+            writes.push(quote!(self.params.#name #place = __values[#at];));
+            at += 1;
+        }
+    }
+    let n_values = at;
+    let model_items = quote! {
+        const N_PARAMETER_VALUES: ::core::primitive::usize = #n_values;
+        fn parameter_values(&self, __out: &mut [#f64_ty]) {
+            ::core::assert_eq!(__out.len(), #n_values, "parameter vector length");
+            #(#reads)*
+        }
+        fn set_parameter_values(&mut self, __values: &[#f64_ty]) {
+            ::core::assert_eq!(__values.len(), #n_values, "parameter vector length");
+            #(#writes)*
+        }
+    };
+    let names: Vec<&Ident> = inputs.iter().map(|p| p.name).collect();
+    let defaults = inputs.iter().map(|p| f64_expr(p.default));
+    let indices: Vec<usize> = (0..inputs.len()).collect();
+    let n_inputs = inputs.len();
+    let field_docs = inputs.iter().map(|p| {
+        let unit = p
+            .unit
+            .map(|u| format!(" Unit: {}.", u.value()))
+            .unwrap_or_default();
+        let default = p.default;
+        let default_text = quote!(#default).to_string();
+        let text = doc_text(p.attrs).unwrap_or_else(|| format!("Input `{}`.", p.name));
+        format!("{text}\n\nDefault: `{default_text}`.{unit}")
+    });
+    let doc =
+        format!("Inputs of [`{model}`]: values its laws read that the host sets between steps.");
+    let input_infos = infos(&inputs);
+    let inputs_struct = quote! {
+        #[doc = #doc]
+        #[derive(
+            ::core::clone::Clone,
+            ::core::marker::Copy,
+            ::core::fmt::Debug,
+            ::core::cmp::PartialEq,
+            ::bgdsl_runtime::__private::serde::Serialize,
+            ::bgdsl_runtime::__private::serde::Deserialize,
+        )]
+        #[serde(crate = "::bgdsl_runtime::__private::serde", default, deny_unknown_fields)]
+        #[allow(non_snake_case)]
+        #vis struct #inputs_ident {
+            #( #[doc = #field_docs] pub #names: #f64_ty, )*
+        }
+
+        #[automatically_derived]
+        impl ::core::default::Default for #inputs_ident {
+            #[allow(non_snake_case, clippy::all)]
+            fn default() -> Self {
+                // Without std, `f64` has no `sqrt`, `sin`, ...: the `Scalar` trait gives
+                // them (with std the inherent methods still win).
+                #[allow(unused_imports)]
+                use ::bgdsl_runtime::Scalar as _;
+                #( let #names: #f64_ty = #defaults; )*
+                Self { #(#names),* }
+            }
+        }
+    };
+    let with_inputs = quote! {
+        #[automatically_derived]
+        impl ::bgdsl_runtime::WithInputs for #model {
+            type Inputs = #inputs_ident;
+            const INPUTS: &'static [::bgdsl_runtime::InputInfo] = #input_infos;
+            fn inputs(&self) -> #inputs_ident {
+                self.inputs
+            }
+            fn set_inputs(&mut self, inputs: #inputs_ident) {
+                self.inputs = inputs;
+            }
+            #[allow(unused_variables)]
+            fn input_values(&self, __out: &mut [#f64_ty]) {
+                ::core::assert_eq!(__out.len(), #n_inputs, "input vector length");
+                #( __out[#indices] = self.inputs.#names; )*
+            }
+            #[allow(unused_variables)]
+            fn set_input_values(&mut self, __values: &[#f64_ty]) {
+                ::core::assert_eq!(__values.len(), #n_inputs, "input vector length");
+                #( self.inputs.#names = __values[#indices]; )*
+            }
+        }
+    };
+    HostInterface {
+        inputs_struct,
+        inputs_ident,
+        parameter_infos: infos(&params),
+        model_items,
+        with_inputs,
+    }
+}
+
+/// The entries of `Model::PARAMETERS` (or `WithInputs::INPUTS`): name, unit, doc text
+/// and length of each, in declaration order.
+fn infos(params: &[&ParamDecl]) -> TokenStream {
     let infos = params.iter().map(|p| {
         let name = p.name.to_string();
         let unit = p.unit.map(syn::LitStr::value).unwrap_or_default();
         let doc = doc_text(p.attrs).unwrap_or_default();
         let len = p.shape.len();
-        quote! {
-            ::bgdsl_runtime::ParameterInfo {
-                name: #name,
-                unit: #unit,
-                doc: #doc,
-                len: #len,
+        if p.input {
+            quote! {
+                ::bgdsl_runtime::InputInfo {
+                    name: #name,
+                    unit: #unit,
+                    doc: #doc,
+                }
+            }
+        } else {
+            quote! {
+                ::bgdsl_runtime::ParameterInfo {
+                    name: #name,
+                    unit: #unit,
+                    doc: #doc,
+                    len: #len,
+                }
             }
         }
     });
     quote!(&[#(#infos),*])
 }
 
-fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> TokenStream {
+fn params_struct(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> TokenStream {
+    let params: Vec<&ParamDecl> = declared.iter().filter(|p| !p.input).collect();
     let ident = params_ident(model);
     let doc = format!("Parameters of [`{model}`], with the declared values as defaults.");
     let fields = params.iter().map(|p| {
@@ -399,6 +579,10 @@ fn params_struct(vis: &Visibility, model: &Ident, params: &[ParamDecl]) -> Token
         impl ::core::default::Default for #ident {
             #[allow(non_snake_case, clippy::all)]
             fn default() -> Self {
+                // Without std, `f64` has no `sqrt`, `sin`, ...: the `Scalar` trait gives
+                // them (with std the inherent methods still win).
+                #[allow(unused_imports)]
+                use ::bgdsl_runtime::Scalar as _;
                 #( let #names: #types = #defaults; )*
                 Self { #(#names),* }
             }
@@ -491,6 +675,9 @@ fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
         let name = &p.name;
         let ty = value_type(p.shape, scalar);
         let value = match p.shape {
+            _ if p.input => {
+                quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(__inputs.#name))
+            }
             Shape::Scalar => {
                 quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(self.params.#name))
             }
@@ -503,7 +690,10 @@ fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
         };
         quote!(let #name: #ty = #value;)
     });
-    quote!(#(#binds)*)
+    quote! {
+        let __inputs = &self.inputs;
+        #(#binds)*
+    }
 }
 
 /// The Rust type of a value of `shape` with entries of type `scalar`.

@@ -78,6 +78,9 @@ pub struct Param {
     pub default: Expr,
     /// Its unit as declared (`in "kg"`).
     pub unit: Option<syn::LitStr>,
+    /// Declared `input`: a field of the inputs struct the host sets between steps,
+    /// not of the parameter struct.
+    pub input: bool,
 }
 
 /// An element of the graph.

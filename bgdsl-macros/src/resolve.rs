@@ -119,6 +119,17 @@ impl Resolver {
     }
 
     fn declare_param(&mut self, param: crate::syntax::ParamDecl) {
+        if param.input && param.shape != crate::ir::Shape::Scalar {
+            self.errors.at(
+                param.name.span(),
+                format!(
+                    "input `{}` must be a number (`input {} = 0.0;`): a host sets inputs one \
+                     value at a time; declare one input per component",
+                    param.name, param.name
+                ),
+            );
+            return;
+        }
         if RESERVED_NAMES.contains(&param.name.to_string().as_str()) {
             self.errors.at(
                 param.name.span(),
@@ -137,6 +148,7 @@ impl Resolver {
                 shape: param.shape,
                 default: param.default,
                 unit: param.unit,
+                input: param.input,
             });
         }
     }

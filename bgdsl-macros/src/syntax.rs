@@ -13,6 +13,7 @@ pub mod kw {
     syn::custom_keyword!(model);
     syn::custom_keyword!(submodel);
     syn::custom_keyword!(param);
+    syn::custom_keyword!(input);
     syn::custom_keyword!(init);
     syn::custom_keyword!(output);
     syn::custom_keyword!(state);
@@ -187,6 +188,8 @@ pub struct ParamDecl {
     pub default: Expr,
     /// Its unit, written `in "kg"` after the default.
     pub unit: Option<syn::LitStr>,
+    /// Declared `input`: set by the host between steps rather than fixed for a run.
+    pub input: bool,
 }
 
 /// The kind of an element, as the syntax names it.
@@ -508,8 +511,13 @@ fn skip_past_semicolon(input: ParseStream) {
 fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Result<Stmt> {
     let attrs = input.call(Attribute::parse_outer)?;
     let lookahead = input.lookahead1();
-    let stmt = if lookahead.peek(kw::param) {
-        input.parse::<kw::param>()?;
+    let stmt = if lookahead.peek(kw::param) || lookahead.peek(kw::input) {
+        let is_input = input.peek(kw::input);
+        if is_input {
+            input.parse::<kw::input>()?;
+        } else {
+            input.parse::<kw::param>()?;
+        }
         let name = input.parse()?;
         let shape = optional_shape(input)?.unwrap_or(Shape::Scalar);
         input.parse::<Token![=]>()?;
@@ -526,6 +534,7 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
             shape,
             default,
             unit,
+            input: is_input,
         })
     } else if lookahead.peek(kw::state) {
         no_attrs(&attrs, "a `state` statement")?;

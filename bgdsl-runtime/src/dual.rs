@@ -14,7 +14,8 @@
 //!   code compares `f64`s, so a dual evaluation takes the same branches as the plain
 //!   one and its `re` parts equal the `f64` results.
 //! - **The value is the `f64` function's.** Every method computes `re` with the
-//!   matching `f64` method, bit for bit.
+//!   matching method of [`Scalar`] for `f64`, bit for bit (the `f64` method of the same
+//!   name; without the `std` feature, `libm`'s function).
 //! - **A zero tangent stays zero.** Where the derivative of an elementary function is
 //!   infinite or undefined at a point where the function itself is finite (`sqrt` and
 //!   `cbrt` at 0, `asin`/`acos` at ±1, `powf` at a zero base, `atan2` at the origin),
@@ -32,6 +33,7 @@
 use core::fmt;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
+use crate::math;
 use crate::scalar::Scalar;
 
 /// A dual number `re + eps·ε` (`ε² = 0`): a value and its derivative along one
@@ -221,39 +223,39 @@ macro_rules! chain_rules {
         /// `√x' = x' / (2√x)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
         #[inline]
         fn sqrt(self) -> Self {
-            let r = self.re.sqrt();
+            let r = math::sqrt(self.re);
             self.chain_guarded(r, 0.5 / r)
         }
         /// `∛x' = x' / (3 ∛x²)`; at `x = 0` the slope is `+∞` (a zero tangent stays zero).
         #[inline]
         fn cbrt(self) -> Self {
-            let r = self.re.cbrt();
+            let r = math::cbrt(self.re);
             self.chain_guarded(r, 1.0 / (3.0 * r * r))
         }
         #[inline]
         fn exp(self) -> Self {
-            let e = self.re.exp();
+            let e = math::exp(self.re);
             self.chain(e, e)
         }
         /// `ln x' = x' / x` (a zero tangent stays zero at `x = 0`, where the value is −∞).
         #[inline]
         fn ln(self) -> Self {
-            self.chain_guarded(self.re.ln(), 1.0 / self.re)
+            self.chain_guarded(math::ln(self.re), 1.0 / self.re)
         }
         #[inline]
         fn sin(self) -> Self {
-            let (s, c) = self.re.sin_cos();
+            let (s, c) = math::sin_cos(self.re);
             self.chain(s, c)
         }
         #[inline]
         fn cos(self) -> Self {
-            let (s, c) = self.re.sin_cos();
+            let (s, c) = math::sin_cos(self.re);
             self.chain(c, -s)
         }
         /// `tan x' = x' (1 + tan² x)`.
         #[inline]
         fn tan(self) -> Self {
-            let t = self.re.tan();
+            let t = math::tan(self.re);
             self.chain(t, 1.0 + t * t)
         }
         /// `asin x' = x' / √(1 − x²)`; at `x = ±1` the slope is `+∞` (a zero tangent stays
@@ -261,35 +263,35 @@ macro_rules! chain_rules {
         #[inline]
         fn asin(self) -> Self {
             let x = self.re;
-            self.chain_guarded(x.asin(), 1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+            self.chain_guarded(math::asin(x), 1.0 / math::sqrt((1.0 - x) * (1.0 + x)))
         }
         /// `acos x' = −x' / √(1 − x²)`; at `x = ±1` the slope is `−∞` (a zero tangent stays
         /// zero).
         #[inline]
         fn acos(self) -> Self {
             let x = self.re;
-            self.chain_guarded(x.acos(), -1.0 / ((1.0 - x) * (1.0 + x)).sqrt())
+            self.chain_guarded(math::acos(x), -1.0 / math::sqrt((1.0 - x) * (1.0 + x)))
         }
         /// `atan x' = x' / (1 + x²)`.
         #[inline]
         fn atan(self) -> Self {
             let x = self.re;
-            self.chain(x.atan(), 1.0 / (1.0 + x * x))
+            self.chain(math::atan(x), 1.0 / (1.0 + x * x))
         }
         #[inline]
         fn sinh(self) -> Self {
-            self.chain(self.re.sinh(), self.re.cosh())
+            self.chain(math::sinh(self.re), math::cosh(self.re))
         }
         #[inline]
         fn cosh(self) -> Self {
-            self.chain(self.re.cosh(), self.re.sinh())
+            self.chain(math::cosh(self.re), math::sinh(self.re))
         }
         /// `tanh x' = x' / cosh² x`, which keeps full relative accuracy where `tanh x` is
         /// close to ±1 (unlike `1 − tanh² x`).
         #[inline]
         fn tanh(self) -> Self {
-            let sech = 1.0 / self.re.cosh();
-            self.chain(self.re.tanh(), sech * sech)
+            let sech = 1.0 / math::cosh(self.re);
+            self.chain(math::tanh(self.re), sech * sech)
         }
         /// `|x|' = sign(x) x'`; at `x = 0` (either sign of zero) the slope is 0.
         #[inline]
@@ -320,11 +322,11 @@ impl Scalar for Dual {
     #[inline]
     fn atan2(self, other: Self) -> Self {
         let (y, x) = (self, other);
-        let value = y.re.atan2(x.re);
+        let value = math::atan2(y.re, x.re);
         if y.eps == 0.0 && x.eps == 0.0 {
             return Dual::constant(value);
         }
-        let r = y.re.hypot(x.re);
+        let r = math::hypot(y.re, x.re);
         let (c, s) = (x.re / r, y.re / r);
         Dual::new(value, (c * y.eps - s * x.eps) / r)
     }
@@ -337,10 +339,10 @@ impl Scalar for Dual {
             0 => Dual::constant(1.0),
             1 => self,
             _ => {
-                let value = self.re.powi(n);
+                let value = math::powi(self.re, n);
                 // xⁿ⁻¹ (n = i32::MIN has no n − 1 in i32: xⁿ / x there).
                 let below = match n.checked_sub(1) {
-                    Some(m) => self.re.powi(m),
+                    Some(m) => math::powi(self.re, m),
                     None => value / self.re,
                 };
                 let slope = f64::from(n) * below;
@@ -362,13 +364,13 @@ impl Scalar for Dual {
     #[inline]
     fn powf(self, n: Self) -> Self {
         let (x, y) = (self, n);
-        let value = x.re.powf(y.re);
+        let value = math::powf(x.re, y.re);
         let mut eps = 0.0;
         if x.eps != 0.0 && y.re != 0.0 {
-            eps += y.re * x.re.powf(y.re - 1.0) * x.eps;
+            eps += y.re * math::powf(x.re, y.re - 1.0) * x.eps;
         }
         if y.eps != 0.0 && value != 0.0 {
-            eps += value * x.re.ln() * y.eps;
+            eps += value * math::ln(x.re) * y.eps;
         }
         Dual::new(value, eps)
     }
@@ -662,8 +664,8 @@ impl<const N: usize> Scalar for DualN<N> {
     #[inline]
     fn atan2(self, other: Self) -> Self {
         let (y, x) = (self, other);
-        let value = y.re.atan2(x.re);
-        let r = y.re.hypot(x.re);
+        let value = math::atan2(y.re, x.re);
+        let r = math::hypot(y.re, x.re);
         let (c, s) = (x.re / r, y.re / r);
         let mut eps = y.eps;
         for (e, xe) in eps.iter_mut().zip(&x.eps) {
@@ -682,9 +684,9 @@ impl<const N: usize> Scalar for DualN<N> {
             0 => DualN::constant(1.0),
             1 => self,
             _ => {
-                let value = self.re.powi(n);
+                let value = math::powi(self.re, n);
                 let below = match n.checked_sub(1) {
-                    Some(m) => self.re.powi(m),
+                    Some(m) => math::powi(self.re, m),
                     None => value / self.re,
                 };
                 let slope = f64::from(n) * below;
@@ -702,13 +704,17 @@ impl<const N: usize> Scalar for DualN<N> {
     #[inline]
     fn powf(self, n: Self) -> Self {
         let (x, y) = (self, n);
-        let value = x.re.powf(y.re);
+        let value = math::powf(x.re, y.re);
         let d_base = if y.re != 0.0 {
-            y.re * x.re.powf(y.re - 1.0)
+            y.re * math::powf(x.re, y.re - 1.0)
         } else {
             0.0
         };
-        let d_exp = if value != 0.0 { value * x.re.ln() } else { 0.0 };
+        let d_exp = if value != 0.0 {
+            value * math::ln(x.re)
+        } else {
+            0.0
+        };
         let mut eps = [0.0; N];
         for ((e, xe), ye) in eps.iter_mut().zip(&x.eps).zip(&y.eps) {
             if *xe != 0.0 && y.re != 0.0 {

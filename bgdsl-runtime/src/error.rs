@@ -3,9 +3,9 @@
 //! sentence that says when and why.
 
 use core::fmt;
-use std::io;
-use std::path::PathBuf;
-use std::time::Duration;
+use core::time::Duration;
+#[cfg(feature = "std")]
+use std::{io, path::PathBuf};
 
 /// Why a simulation could not be set up or could not reach its last sample time.
 ///
@@ -83,6 +83,7 @@ pub enum SolverError {
         expected: &'static str,
     },
     /// A solver was asked for by a name that no solver has.
+    #[cfg(feature = "std")]
     UnknownSolver {
         /// The name given.
         name: String,
@@ -258,6 +259,7 @@ impl fmt::Display for SolverError {
                 "invalid solver option `{option}` = {}: expected {expected}",
                 Num(*value)
             ),
+            #[cfg(feature = "std")]
             SolverError::UnknownSolver { name, valid } => {
                 write!(f, "unknown solver `{name}`; the solvers are: ")?;
                 for (i, v) in valid.iter().enumerate() {
@@ -315,10 +317,11 @@ impl fmt::Display for SolverError {
     }
 }
 
-impl std::error::Error for SolverError {}
+impl core::error::Error for SolverError {}
 
 /// A trajectory could not be written to a CSV file. The destination was left as it
 /// was: the file is written whole or not at all.
+#[cfg(feature = "std")]
 #[derive(Debug)]
 #[non_exhaustive]
 pub struct CsvError {
@@ -331,6 +334,7 @@ pub struct CsvError {
 }
 
 /// The operation that failed in a [`CsvError`].
+#[cfg(feature = "std")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CsvStage {
     /// Creating the temporary file next to the destination.
@@ -341,6 +345,7 @@ pub enum CsvStage {
     Rename,
 }
 
+#[cfg(feature = "std")]
 impl fmt::Display for CsvError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let what = match self.stage {
@@ -357,6 +362,7 @@ impl fmt::Display for CsvError {
     }
 }
 
+#[cfg(feature = "std")]
 impl std::error::Error for CsvError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         Some(&self.source)

@@ -4,36 +4,69 @@
 //! crate needs only this one dependency). The macro assigns causality at compile time
 //! and implements [`Model`] with straight-line, allocation-free code; this crate
 //! integrates it and records the results.
+//!
+//! # Without the standard library
+//!
+//! The `std` feature (on by default) brings the simulation driver, the stiff solvers,
+//! exact Jacobians, trajectories and CSV files, Graphviz export and the `Stepper`.
+//! Without it the crate is `#![no_std]` and needs no allocator: what remains is what a
+//! model needs to be defined and stepped on a microcontroller, namely the [`Model`]
+//! and [`WithInputs`] traits and everything `bond_graph!` generates code against
+//! ([`Scalar`], with `libm` for the elementary functions of `f64`; [`Dual`] numbers;
+//! [`multibond`]; the [`CausalGraph`] description), and the allocation-free
+//! explicit integrators of [`rk`]. `core` has no `f64::sqrt`, `sin`, ...: code of
+//! one's own that calls them on `f64` imports [`Scalar`], whose methods of the same
+//! names stand in for them.
+#![cfg_attr(not(feature = "std"), no_std)]
 #![warn(missing_docs)]
+// The documentation is written for the whole crate: without `std`, links to the parts
+// that need it (the driver, the stiff solvers, the recorders) have nothing to point at.
+#![cfg_attr(not(feature = "std"), allow(rustdoc::broken_intra_doc_links))]
 
 // Generated code names this crate `::bgdsl_runtime`; this makes that work inside it too.
 extern crate self as bgdsl_runtime;
 
+#[cfg(feature = "std")]
 pub mod dot;
 pub mod dual;
 pub mod error;
 pub mod graph;
+#[cfg(feature = "std")]
 pub mod jacobian;
+#[cfg(feature = "std")]
 mod linalg;
+mod math;
 pub mod model;
 pub mod multibond;
+#[cfg(feature = "std")]
 pub mod record;
+pub mod rk;
 pub mod scalar;
 pub mod solver;
+#[cfg(feature = "std")]
+pub mod stepper;
 
 pub use bgdsl_macros::bond_graph;
+#[cfg(feature = "std")]
 pub use dot::Dot;
 pub use dual::{Dual, DualN};
-pub use error::{CsvError, CsvStage, NonFiniteKind, SampleTimeProblem, SolverError};
+#[cfg(feature = "std")]
+pub use error::{CsvError, CsvStage};
+pub use error::{NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
+#[cfg(feature = "std")]
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
-pub use model::{Model, ParameterInfo, PowerBalance};
+pub use model::{InputInfo, Model, ParameterInfo, PowerBalance, WithInputs};
+#[cfg(feature = "std")]
 pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;
+#[cfg(feature = "std")]
 pub use solver::{
-    sample_times_uniform, simulate, DormandPrinceOptions, FixedStep, Radau5Options, Rodas4Options,
-    Simulation, Solver, Stats,
+    sample_times_uniform, simulate, Radau5Options, Rodas4Options, Simulation, Solver,
 };
+pub use solver::{DormandPrinceOptions, FixedStep, Stats};
+#[cfg(feature = "std")]
+pub use stepper::{Snapshot, SnapshotError, Stepper};
 
 /// The README's examples, compiled and run as doctests so they cannot rot.
 #[cfg(doctest)]

@@ -31,9 +31,26 @@ pub trait Model {
     /// The parameters in declaration order, with their units and documentation (empty
     /// for a model that does not describe them).
     const PARAMETERS: &'static [ParameterInfo] = &[];
+    /// How many numbers the parameters hold in all: the sum of their
+    /// [`ParameterInfo::len`].
+    const N_PARAMETER_VALUES: usize = 0;
 
     /// The parameters the model evaluates with.
     fn params(&self) -> &Self::Params;
+
+    /// Writes every parameter's numbers into `out` (length
+    /// [`Model::N_PARAMETER_VALUES`]) in the order of [`Model::PARAMETERS`]: vectors
+    /// component by component, matrices row by row. For hosts that address parameters
+    /// by index (an FMU's value references).
+    fn parameter_values(&self, out: &mut [f64]) {
+        let _ = out;
+    }
+
+    /// Sets every parameter from `values`, laid out as [`Model::parameter_values`]
+    /// writes them.
+    fn set_parameter_values(&mut self, values: &[f64]) {
+        let _ = values;
+    }
 
     /// Writes the declared initial conditions (which may depend on the parameters) into
     /// `x0`.
@@ -63,7 +80,9 @@ pub trait Model {
     /// The solver a run uses when the caller names none. Bond-graph models of mechanisms
     /// are stiff by construction (stiff compliant joints stand in for constraints), so
     /// the default is Radau IIA of order 5, which is also correct, if not the cheapest,
-    /// on non-stiff models. A model that knows better overrides this.
+    /// on non-stiff models. A model that knows better overrides this. (Only with the
+    /// `std` feature, which the solvers it names need.)
+    #[cfg(feature = "std")]
     fn default_solver(&self) -> crate::solver::Solver {
         crate::solver::Solver::stiff()
     }
@@ -94,6 +113,39 @@ pub struct ParameterInfo {
     pub doc: &'static str,
     /// How many numbers it holds: 1 for a scalar, 3 for `[f64; 3]`, 9 for a 3×3 matrix.
     pub len: usize,
+}
+
+/// What a model says about one of its inputs (see [`WithInputs::INPUTS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InputInfo {
+    /// The name, as the inputs struct's field.
+    pub name: &'static str,
+    /// The unit as declared (`input torque = 0.0 in "N·m";`), empty when none was.
+    pub unit: &'static str,
+    /// The input's doc comment, empty when it has none.
+    pub doc: &'static str,
+}
+
+/// A model whose laws read inputs that the host sets between steps: a voltage from a
+/// controller, a measured load. Every model `bond_graph!` generates implements it (with
+/// an empty inputs struct when it declares no `input`).
+///
+/// The inputs are a field of the model: a host that owns the model (or a
+/// [`Stepper`](crate::Stepper), which owns it) sets them between calls that integrate,
+/// and a solver sees them constant within each call.
+pub trait WithInputs: Model {
+    /// The inputs, one `f64` field per declared `input`.
+    type Inputs: Copy + core::fmt::Debug + Default + PartialEq;
+    /// The inputs in declaration order, with units and documentation.
+    const INPUTS: &'static [InputInfo];
+    /// The inputs now.
+    fn inputs(&self) -> Self::Inputs;
+    /// Sets the inputs.
+    fn set_inputs(&mut self, inputs: Self::Inputs);
+    /// Writes the inputs into `out` (one per [`WithInputs::INPUTS`] entry).
+    fn input_values(&self, out: &mut [f64]);
+    /// Sets the inputs from `values` (one per [`WithInputs::INPUTS`] entry).
+    fn set_input_values(&mut self, values: &[f64]);
 }
 
 /// A model's energy account at one instant (see [`Model::power_balance`]).

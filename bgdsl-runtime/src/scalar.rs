@@ -8,6 +8,8 @@
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
+use crate::math;
+
 /// A real number as the generated code sees it: field arithmetic, ordering by value,
 /// and the elementary functions a constitutive law may call.
 ///
@@ -81,6 +83,8 @@ pub trait Scalar:
     }
 }
 
+/// The `f64` methods of the same names (without the `std` feature, the elementary
+/// functions come from `libm`).
 impl Scalar for f64 {
     #[inline(always)]
     fn from_f64(value: f64) -> Self {
@@ -92,59 +96,59 @@ impl Scalar for f64 {
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        f64::sqrt(self)
+        math::sqrt(self)
     }
     #[inline(always)]
     fn cbrt(self) -> Self {
-        f64::cbrt(self)
+        math::cbrt(self)
     }
     #[inline(always)]
     fn exp(self) -> Self {
-        f64::exp(self)
+        math::exp(self)
     }
     #[inline(always)]
     fn ln(self) -> Self {
-        f64::ln(self)
+        math::ln(self)
     }
     #[inline(always)]
     fn sin(self) -> Self {
-        f64::sin(self)
+        math::sin(self)
     }
     #[inline(always)]
     fn cos(self) -> Self {
-        f64::cos(self)
+        math::cos(self)
     }
     #[inline(always)]
     fn tan(self) -> Self {
-        f64::tan(self)
+        math::tan(self)
     }
     #[inline(always)]
     fn asin(self) -> Self {
-        f64::asin(self)
+        math::asin(self)
     }
     #[inline(always)]
     fn acos(self) -> Self {
-        f64::acos(self)
+        math::acos(self)
     }
     #[inline(always)]
     fn atan(self) -> Self {
-        f64::atan(self)
+        math::atan(self)
     }
     #[inline(always)]
     fn atan2(self, other: Self) -> Self {
-        f64::atan2(self, other)
+        math::atan2(self, other)
     }
     #[inline(always)]
     fn sinh(self) -> Self {
-        f64::sinh(self)
+        math::sinh(self)
     }
     #[inline(always)]
     fn cosh(self) -> Self {
-        f64::cosh(self)
+        math::cosh(self)
     }
     #[inline(always)]
     fn tanh(self) -> Self {
-        f64::tanh(self)
+        math::tanh(self)
     }
     #[inline(always)]
     fn abs(self) -> Self {
@@ -156,11 +160,11 @@ impl Scalar for f64 {
     }
     #[inline(always)]
     fn powi(self, n: i32) -> Self {
-        f64::powi(self, n)
+        math::powi(self, n)
     }
     #[inline(always)]
     fn powf(self, n: Self) -> Self {
-        f64::powf(self, n)
+        math::powf(self, n)
     }
     #[inline(always)]
     fn min(self, other: Self) -> Self {

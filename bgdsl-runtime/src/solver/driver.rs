@@ -3,52 +3,15 @@
 //! [`super::stiff`], whose own loop (Newton-aware step-size control, Jacobian and LU
 //! reuse) the driver calls one accepted step at a time.
 
-use super::explicit::{check_state, ExplicitRk, NonFinite};
+use super::control::{Grid, Run};
+use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
+use super::stats::Stats;
 use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
 use crate::model::Model;
 use crate::record::{Recorder, Trajectory};
-
-/// The work done by one run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[non_exhaustive]
-pub struct Stats {
-    /// Steps accepted.
-    pub accepted: usize,
-    /// Steps rejected: error estimate too large, a non-finite value met, or (stiff
-    /// methods) a Newton iteration that failed or a singular iteration matrix.
-    pub rejected: usize,
-    /// Evaluations of [`Model::derivatives`] on `f64`, by the method itself (the
-    /// evaluations for Jacobians are counted in [`Stats::n_jac_rhs`]).
-    pub n_rhs: usize,
-    /// Jacobians evaluated (stiff methods; 0 for the explicit ones).
-    pub n_jac: usize,
-    /// LU factorizations of iteration matrices (stiff methods). Radau5 factors two
-    /// matrices each time, one real and one complex (about four times the work of the
-    /// real one): both are counted. Rodas4 factors one per attempted step.
-    pub n_lu: usize,
-    /// Of [`Stats::n_lu`], the factorizations by the sparse code (with pivots fixed at
-    /// set-up) that failed its stability test and were done again with partial
-    /// pivoting (stiff methods on models whose Jacobian is sparse enough; see
-    /// [`JacobianEvaluator`](crate::JacobianEvaluator)).
-    pub n_lu_fallback: usize,
-    /// Directional derivatives of [`Model::derivatives`] spent on Jacobians (stiff
-    /// methods): one per colour of the sparsity pattern, or of the numerical pattern
-    /// plus one for the check once that is known (see
-    /// [`JacobianEvaluator`](crate::JacobianEvaluator); none for a hand-written
-    /// [`Model::jacobian`]), evaluated [`LANES`](crate::jacobian::LANES) at a time on
-    /// dual numbers; plus, for Rodas4, one `f64` evaluation for `∂f/∂t`.
-    pub n_jac_rhs: usize,
-}
-
-impl Stats {
-    /// Steps attempted: accepted plus rejected. This is what `max_steps` limits.
-    pub fn steps(&self) -> usize {
-        self.accepted + self.rejected
-    }
-}
 
 /// A model paired with a solver and all the memory a run needs.
 ///
@@ -84,7 +47,7 @@ impl Stats {
 /// # Ok::<(), bgdsl_runtime::SolverError>(())
 /// ```
 pub struct Simulation<'m, M: Model> {
-    model: &'m M,
+    model: Held<'m, M>,
     solver: Solver,
     kernel: Kernel,
     /// The current state.
@@ -96,6 +59,22 @@ pub struct Simulation<'m, M: Model> {
     /// The outputs at a sample.
     y: Vec<f64>,
     stats: Stats,
+}
+
+/// The model a simulation integrates: the caller's, borrowed, or its own.
+enum Held<'m, M> {
+    Borrowed(&'m M),
+    Owned(M),
+}
+
+impl<M> Held<'_, M> {
+    /// Borrows only this field, so the workspace beside it can be borrowed mutably.
+    fn get(&self) -> &M {
+        match self {
+            Held::Borrowed(model) => model,
+            Held::Owned(model) => model,
+        }
+    }
 }
 
 impl<M: Model> core::fmt::Debug for Simulation<'_, M> {
@@ -114,7 +93,7 @@ impl<M: Model> core::fmt::Debug for Simulation<'_, M> {
 #[derive(Debug)]
 #[allow(clippy::large_enum_variant)]
 enum Kernel {
-    Explicit(ExplicitRk),
+    Explicit(ExplicitRk<Heap>),
     Stiff(StiffKernel),
 }
 
@@ -128,7 +107,7 @@ impl Kernel {
 }
 
 /// The explicit kernel (the solver is an explicit one).
-fn explicit(kernel: &mut Kernel) -> &mut ExplicitRk {
+fn explicit(kernel: &mut Kernel) -> &mut ExplicitRk<Heap> {
     match kernel {
         Kernel::Explicit(k) => k,
         Kernel::Stiff(_) => unreachable!("an explicit solver has an explicit kernel"),
@@ -205,11 +184,6 @@ pub fn sample_times_uniform(t0: f64, t_end: f64, n: usize) -> Vec<f64> {
     (0..n).map(|i| samples.get(i)).collect()
 }
 
-/// The smallest step the time axis resolves at `t`.
-pub(super) fn min_step(t: f64) -> f64 {
-    16.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE)
-}
-
 impl<'m, M: Model> Simulation<'m, M> {
     /// A simulation of `model` with the model's own [`Model::default_solver`].
     pub fn with_default_solver(model: &'m M) -> Result<Self, SolverError> {
@@ -218,6 +192,17 @@ impl<'m, M: Model> Simulation<'m, M> {
 
     /// Checks the solver's options and allocates the workspace for `model`.
     pub fn new(model: &'m M, solver: Solver) -> Result<Self, SolverError> {
+        Self::with_model(Held::Borrowed(model), solver)
+    }
+
+    /// Like [`Simulation::new`], but the simulation owns the model, so the host can
+    /// change it between runs ([`Simulation::model_mut`]): its inputs, its parameters.
+    pub fn owning(model: M, solver: Solver) -> Result<Self, SolverError> {
+        Self::with_model(Held::Owned(model), solver)
+    }
+
+    fn with_model(held: Held<'m, M>, solver: Solver) -> Result<Self, SolverError> {
+        let model = held.get();
         solver.validate()?;
         let n = M::N_STATES;
         let kernel = match solver {
@@ -239,7 +224,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
         };
         Ok(Simulation {
-            model,
+            model: held,
             solver,
             kernel,
             x: vec![0.0; n],
@@ -251,8 +236,17 @@ impl<'m, M: Model> Simulation<'m, M> {
     }
 
     /// The model.
-    pub fn model(&self) -> &'m M {
-        self.model
+    pub fn model(&self) -> &M {
+        self.model.get()
+    }
+
+    /// The model, to change between runs, if the simulation owns it
+    /// ([`Simulation::owning`]); `None` for a borrowed one.
+    pub fn model_mut(&mut self) -> Option<&mut M> {
+        match &mut self.model {
+            Held::Borrowed(_) => None,
+            Held::Owned(model) => Some(model),
+        }
     }
 
     /// The solver and its settings.
@@ -352,47 +346,10 @@ impl<'m, M: Model> Simulation<'m, M> {
         if n == 0 {
             return Ok(());
         }
-        let t0 = self.t;
-        let t_end = samples.get(n - 1);
-        let h = o.step;
-        // Every grid step must advance the time, or the loop could not end.
-        if t_end > t0 && h < min_step(t0).max(min_step(t_end)) {
-            return Err(SolverError::StepSizeTooSmall { t: t0, h });
-        }
-        // Index of the last grid point passed.
-        let mut k: u64 = 0;
+        let mut grid = Grid::new(self.t, samples.get(n - 1), &o)?;
         for i in 0..n {
             let ts = samples.get(i);
-            // A grid point this close to a sample time is the sample time.
-            let merge = (1e-9 * h).max(8.0 * f64::EPSILON * ts.abs());
-            while self.t < ts {
-                if self.stats.accepted >= o.max_steps {
-                    return Err(SolverError::StepBudgetExhausted {
-                        t: self.t,
-                        t_end,
-                        steps: self.stats.accepted,
-                    });
-                }
-                let grid = t0 + (k + 1) as f64 * h;
-                let (t_new, on_grid) = if grid < ts - merge {
-                    (grid, true)
-                } else {
-                    (ts, grid <= ts + merge)
-                };
-                let t = self.t;
-                let stats = &mut self.stats;
-                let kernel = explicit(&mut self.kernel);
-                kernel
-                    .prepare(self.model, t, &self.x, &mut stats.n_rhs)
-                    .and_then(|()| kernel.attempt(self.model, t, t_new, &self.x, &mut stats.n_rhs))
-                    .map_err(non_finite::<M>)?;
-                kernel.accept(t, t_new, &mut self.x, false);
-                self.t = t_new;
-                stats.accepted += 1;
-                if on_grid {
-                    k += 1;
-                }
-            }
+            self.explicit_run().fixed_steps_to(&mut grid, ts)?;
             self.emit(ts, false, recorder)?;
         }
         Ok(())
@@ -416,79 +373,32 @@ impl<'m, M: Model> Simulation<'m, M> {
             return Ok(());
         }
         let t_end = samples.get(n - 1);
-        let model = self.model;
-        let (rtol, atol) = (o.rtol, o.atol);
-        explicit(&mut self.kernel)
-            .prepare(model, self.t, &self.x, &mut self.stats.n_rhs)
-            .map_err(non_finite::<M>)?;
-        let mut h = match o.initial_step {
-            Some(h) => h.min(o.max_step),
-            None => explicit(&mut self.kernel)
-                .initial_step(
-                    model,
-                    self.t,
-                    &self.x,
-                    rtol,
-                    atol,
-                    o.max_step,
-                    &mut self.stats.n_rhs,
-                )
-                .map_err(non_finite::<M>)?,
-        };
-        let mut control = Controller::new(o);
-        // The non-finite value that made the last step fail, if that is why it failed.
-        let mut failure: Option<NonFinite> = None;
+        let mut adaptive = self.explicit_run().start_adaptive(o)?;
         loop {
-            let t = self.t;
-            // Stretch a step that would end within 1 % of the last sample time.
-            let (t_new, h_try) = if t + 1.01 * h >= t_end {
-                (t_end, t_end - t)
-            } else {
-                (t + h, h)
-            };
-            if h_try.is_nan() || h_try < min_step(t) {
-                return Err(match failure {
-                    Some(nf) => non_finite::<M>(nf),
-                    None => SolverError::StepSizeTooSmall { t, h: h_try },
-                });
+            // Interpolate only for a step that passes a sample time.
+            let sample = samples.get(next);
+            self.explicit_run()
+                .adaptive_step(&mut adaptive, t_end, |t_new| sample < t_new)?;
+            let t_new = self.t;
+            while next < n && samples.get(next) <= t_new {
+                let ts = samples.get(next);
+                self.emit(ts, ts < t_new, recorder)?;
+                next += 1;
             }
-            if self.stats.steps() >= o.max_steps {
-                return Err(SolverError::StepBudgetExhausted {
-                    t,
-                    t_end,
-                    steps: self.stats.steps(),
-                });
+            if next == n {
+                return Ok(());
             }
-            if let Err(nf) =
-                explicit(&mut self.kernel).attempt(model, t, t_new, &self.x, &mut self.stats.n_rhs)
-            {
-                // Probably a step out of the model's domain: retry a shorter one.
-                self.stats.rejected += 1;
-                failure = Some(nf);
-                h = control.after_failure(h_try);
-                continue;
-            }
-            failure = None;
-            let kernel = explicit(&mut self.kernel);
-            let err = kernel.error_norm(&self.x, h_try, rtol, atol);
-            if err <= 1.0 {
-                self.stats.accepted += 1;
-                let dense = samples.get(next) < t_new;
-                kernel.accept(t, t_new, &mut self.x, dense);
-                self.t = t_new;
-                while next < n && samples.get(next) <= t_new {
-                    let ts = samples.get(next);
-                    self.emit(ts, ts < t_new, recorder)?;
-                    next += 1;
-                }
-                if next == n {
-                    return Ok(());
-                }
-                h = control.after_accept(h_try, err);
-            } else {
-                self.stats.rejected += 1;
-                h = control.after_reject(h_try, err);
-            }
+        }
+    }
+
+    /// The explicit kernel with the model, the current point and the statistics.
+    fn explicit_run(&mut self) -> Run<'_, M, Heap> {
+        Run {
+            model: self.model.get(),
+            kernel: explicit(&mut self.kernel),
+            t: &mut self.t,
+            x: &mut self.x,
+            stats: &mut self.stats,
         }
     }
 
@@ -510,11 +420,10 @@ impl<'m, M: Model> Simulation<'m, M> {
             return Ok(());
         }
         let t_end = samples.get(n - 1);
-        let model = self.model;
-        stiff(&mut self.kernel).start(model, self.t, &self.x, t_end, &mut self.stats)?;
+        stiff(&mut self.kernel).start(self.model.get(), self.t, &self.x, t_end, &mut self.stats)?;
         loop {
             stiff(&mut self.kernel).step(
-                model,
+                self.model.get(),
                 &mut self.t,
                 &mut self.x,
                 t_end,
@@ -547,78 +456,12 @@ impl<'m, M: Model> Simulation<'m, M> {
         } else {
             &self.x
         };
-        self.model.outputs::<f64>(t, x, &mut self.y);
+        self.model.get().outputs::<f64>(t, x, &mut self.y);
         recorder.record(t, x, &self.y);
         if recorder.stop_requested() {
             return Err(SolverError::Stopped { t });
         }
         Ok(())
-    }
-}
-
-/// The step-size controller of Hairer's DOPRI5 (HNW I, Sect. II.4 and IV.2): a PI
-/// controller `h_new = h * safety * err^-alpha * err_prev^beta` with
-/// `alpha = 1/5 - 0.75 beta`, clamped to `[min_factor, max_factor] * h` and
-/// `max_step`, with no growth right after a rejection.
-#[derive(Clone, Copy, Debug)]
-struct Controller {
-    alpha: f64,
-    beta: f64,
-    safety: f64,
-    min_factor: f64,
-    max_factor: f64,
-    max_step: f64,
-    /// The error of the last accepted step (at least 1e-4).
-    err_prev: f64,
-    last_rejected: bool,
-}
-
-impl Controller {
-    fn new(o: &DormandPrinceOptions) -> Self {
-        // The error estimate of DOPRI5 is O(h^5).
-        let q1 = 5.0;
-        Controller {
-            alpha: 1.0 / q1 - 0.75 * o.beta,
-            beta: o.beta,
-            safety: o.safety,
-            min_factor: o.min_factor,
-            max_factor: o.max_factor,
-            max_step: o.max_step,
-            err_prev: 1e-4,
-            last_rejected: false,
-        }
-    }
-
-    fn after_accept(&mut self, h: f64, err: f64) -> f64 {
-        let factor = self.safety * err.powf(-self.alpha) * self.err_prev.powf(self.beta);
-        let mut factor = factor.clamp(self.min_factor, self.max_factor);
-        if self.last_rejected {
-            factor = factor.min(1.0);
-        }
-        self.err_prev = err.max(1e-4);
-        self.last_rejected = false;
-        (h * factor).min(self.max_step)
-    }
-
-    fn after_reject(&mut self, h: f64, err: f64) -> f64 {
-        self.last_rejected = true;
-        let factor = self.safety * err.powf(-self.alpha);
-        h * factor.max(self.min_factor)
-    }
-
-    fn after_failure(&mut self, h: f64) -> f64 {
-        self.last_rejected = true;
-        h * self.min_factor
-    }
-}
-
-/// Names the state of a kernel's non-finite value.
-pub(super) fn non_finite<M: Model>(nf: NonFinite) -> SolverError {
-    SolverError::NonFiniteState {
-        t: nf.t,
-        state: M::STATE_NAMES.get(nf.index).copied().unwrap_or("?"),
-        value: nf.value,
-        kind: nf.kind,
     }
 }
 

@@ -1,6 +1,11 @@
 //! The one explicit Runge–Kutta kernel: stages, embedded error estimate and continuous
 //! extension, for any [`Tableau`]. It takes single steps; choosing their size is the
-//! driver's business.
+//! business of [`super::control`].
+//!
+//! The kernel is generic over where its vectors live ([`Storage`]): `Vec`s sized at run
+//! time for the driver ([`Heap`], with `std`), or arrays sized at compile time for the
+//! allocation-free integrators of [`crate::rk`] ([`Arrays`]). The arithmetic is the same
+//! code either way.
 //!
 //! Continuous extension (dense output). For a FSAL tableau with dense weights `d`, the
 //! step from `(t, x)` to `(t + h, x_new)` is interpolated, as in Hairer's DOPRI5, by
@@ -14,12 +19,15 @@
 //! a quartic that matches `x`, `x_new` and the derivatives `k_1 = f(t, x)`,
 //! `k_s = f(t + h, x_new)` at both ends.
 
+use core::fmt::Debug;
+
 use super::tableau::Tableau;
-use crate::error::NonFiniteKind;
+use crate::error::{NonFiniteKind, SolverError};
+use crate::math;
 use crate::model::Model;
 
-/// A non-finite value met while stepping; the driver turns it into
-/// [`SolverError::NonFiniteState`](crate::SolverError::NonFiniteState).
+/// A non-finite value met while stepping; [`non_finite`] turns it into
+/// [`SolverError::NonFiniteState`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct NonFinite {
     pub t: f64,
@@ -28,27 +36,63 @@ pub(crate) struct NonFinite {
     pub kind: NonFiniteKind,
 }
 
-/// Workspace and state of the explicit RK kernel. All buffers are allocated by
-/// [`ExplicitRk::new`]; no method allocates.
-#[derive(Debug)]
-pub(crate) struct ExplicitRk {
+/// Where the kernel keeps its vectors.
+pub(crate) trait Storage: Clone + Debug {
+    /// A vector of the model's length.
+    type Vector: AsRef<[f64]> + AsMut<[f64]> + Clone + Debug;
+    /// The stage derivatives, one vector per stage.
+    type Stages: AsRef<[Self::Vector]> + AsMut<[Self::Vector]> + Clone + Debug;
+    /// A coefficient of the continuous extension: a vector of the model's length, or an
+    /// empty one where the kernel keeps no dense output.
+    type Dense: AsRef<[f64]> + AsMut<[f64]> + Clone + Debug;
+}
+
+/// Vectors on the heap, allocated once for the model's size: the driver's.
+#[cfg(feature = "std")]
+#[derive(Clone, Debug)]
+pub(crate) struct Heap;
+
+#[cfg(feature = "std")]
+impl Storage for Heap {
+    type Vector = Vec<f64>;
+    type Stages = Vec<Vec<f64>>;
+    type Dense = Vec<f64>;
+}
+
+/// Arrays for `N` states and `S` stages, without dense output: the storage of the
+/// integrators of [`crate::rk`].
+#[derive(Clone, Debug)]
+pub(crate) struct Arrays<const N: usize, const S: usize>;
+
+impl<const N: usize, const S: usize> Storage for Arrays<N, S> {
+    type Vector = [f64; N];
+    type Stages = [[f64; N]; S];
+    type Dense = [f64; 0];
+}
+
+/// Workspace and state of the explicit RK kernel, in storage `S`. All buffers are made
+/// by the constructor; no method allocates.
+#[derive(Clone, Debug)]
+pub(crate) struct ExplicitRk<S: Storage> {
     tableau: &'static Tableau,
     /// Stage derivatives `k_1..k_s`.
-    k: Vec<Vec<f64>>,
+    k: S::Stages,
     /// The argument of the stage being evaluated.
-    stage: Vec<f64>,
+    stage: S::Vector,
     /// The solution proposed by the last attempted step.
-    x_new: Vec<f64>,
+    x_new: S::Vector,
     /// Whether `k[0]` holds `f(t, x)` for the current point.
     k1_valid: bool,
-    /// Dense-output coefficients `r1..r5` (empty vectors if the tableau has none).
-    dense: [Vec<f64>; 5],
+    /// Dense-output coefficients `r1..r5` (empty vectors if the tableau or the storage
+    /// has none).
+    dense: [S::Dense; 5],
     /// Start and length of the step the dense coefficients describe.
     dense_t: f64,
     dense_h: f64,
 }
 
-impl ExplicitRk {
+#[cfg(feature = "std")]
+impl ExplicitRk<Heap> {
     /// A kernel for `tableau` and `n` states.
     pub fn new(tableau: &'static Tableau, n: usize) -> Self {
         let dense_len = if tableau.dense.is_some() { n } else { 0 };
@@ -63,7 +107,30 @@ impl ExplicitRk {
             dense_h: 0.0,
         }
     }
+}
 
+impl<const N: usize, const S: usize> ExplicitRk<Arrays<N, S>> {
+    /// A kernel for `tableau`, which must have `S` stages, and `N` states, in arrays. It
+    /// keeps no dense output: [`ExplicitRk::accept`] must be told `dense = false`.
+    pub const fn in_arrays(tableau: &'static Tableau) -> Self {
+        assert!(
+            tableau.stages() == S,
+            "the stage storage does not match the tableau"
+        );
+        ExplicitRk {
+            tableau,
+            k: [[0.0; N]; S],
+            stage: [0.0; N],
+            x_new: [0.0; N],
+            k1_valid: false,
+            dense: [[]; 5],
+            dense_t: 0.0,
+            dense_h: 0.0,
+        }
+    }
+}
+
+impl<S: Storage> ExplicitRk<S> {
     /// Forgets the first stage: the next step starts from a point the kernel has not
     /// seen.
     pub fn restart(&mut self) {
@@ -79,7 +146,7 @@ impl ExplicitRk {
         n_rhs: &mut usize,
     ) -> Result<(), NonFinite> {
         if !self.k1_valid {
-            eval(model, t, x, &mut self.k[0], n_rhs)?;
+            eval(model, t, x, self.k.as_mut()[0].as_mut(), n_rhs)?;
             self.k1_valid = true;
         }
         Ok(())
@@ -100,26 +167,27 @@ impl ExplicitRk {
         let tab = self.tableau;
         let s = tab.stages();
         let h = t_new - t;
+        let k = self.k.as_mut();
         for i in 1..s {
             let t_i = if tab.c[i] == 1.0 {
                 t_new
             } else {
                 t + tab.c[i] * h
             };
-            let (done, rest) = self.k.split_at_mut(i);
+            let (done, rest) = k.split_at_mut(i);
             if tab.fsal && i == s - 1 {
                 // The last row of A is b: the stage argument is the new solution.
-                combine(&mut self.x_new, x, h, tab.b, done);
-                check_state(&self.x_new, t_new)?;
-                eval(model, t_i, &self.x_new, &mut rest[0], n_rhs)?;
+                combine(self.x_new.as_mut(), x, h, tab.b, done);
+                check_state(self.x_new.as_ref(), t_new)?;
+                eval(model, t_i, self.x_new.as_ref(), rest[0].as_mut(), n_rhs)?;
             } else {
-                combine(&mut self.stage, x, h, tab.a[i], done);
-                eval(model, t_i, &self.stage, &mut rest[0], n_rhs)?;
+                combine(self.stage.as_mut(), x, h, tab.a[i], done);
+                eval(model, t_i, self.stage.as_ref(), rest[0].as_mut(), n_rhs)?;
             }
         }
         if !tab.fsal {
-            combine(&mut self.x_new, x, h, tab.b, &self.k);
-            check_state(&self.x_new, t_new)?;
+            combine(self.x_new.as_mut(), x, h, tab.b, k);
+            check_state(self.x_new.as_ref(), t_new)?;
         }
         Ok(())
     }
@@ -135,18 +203,19 @@ impl ExplicitRk {
         if n == 0 {
             return 0.0;
         }
+        let (stages, x_new) = (self.k.as_ref(), self.x_new.as_ref());
         let mut sum = 0.0;
         for i in 0..n {
             let mut e = 0.0;
-            for (w, k) in est.weights.iter().zip(&self.k) {
+            for (w, k) in est.weights.iter().zip(stages) {
                 if *w != 0.0 {
-                    e += w * k[i];
+                    e += w * k.as_ref()[i];
                 }
             }
-            let r = scaled(h * e, atol + rtol * x[i].abs().max(self.x_new[i].abs()));
+            let r = scaled(h * e, atol + rtol * x[i].abs().max(x_new[i].abs()));
             sum += r * r;
         }
-        (sum / n as f64).sqrt()
+        math::sqrt(sum / n as f64)
     }
 
     /// Accepts the last attempted step from `(t, x)` to `t_new`: stores the
@@ -156,19 +225,22 @@ impl ExplicitRk {
         let tab = self.tableau;
         let s = tab.stages();
         if let (true, Some(d)) = (dense, tab.dense) {
+            debug_assert_eq!(self.dense[0].as_ref().len(), x.len(), "no dense storage");
             let h = t_new - t;
-            let [r1, r2, r3, r4, r5] = &mut self.dense;
+            let (stages, x_new) = (self.k.as_ref(), self.x_new.as_ref());
+            let (first, last) = (stages[0].as_ref(), stages[s - 1].as_ref());
+            let [r1, r2, r3, r4, r5] = self.dense.each_mut().map(|r| r.as_mut());
             for i in 0..x.len() {
-                let diff = self.x_new[i] - x[i];
-                let bspl = h * self.k[0][i] - diff;
+                let diff = x_new[i] - x[i];
+                let bspl = h * first[i] - diff;
                 r1[i] = x[i];
                 r2[i] = diff;
                 r3[i] = bspl;
-                r4[i] = diff - h * self.k[s - 1][i] - bspl;
+                r4[i] = diff - h * last[i] - bspl;
                 let mut sum = 0.0;
-                for (dj, k) in d.iter().zip(&self.k) {
+                for (dj, k) in d.iter().zip(stages) {
                     if *dj != 0.0 {
-                        sum += dj * k[i];
+                        sum += dj * k.as_ref()[i];
                     }
                 }
                 r5[i] = h * sum;
@@ -176,9 +248,9 @@ impl ExplicitRk {
             self.dense_t = t;
             self.dense_h = h;
         }
-        x.copy_from_slice(&self.x_new);
+        x.copy_from_slice(self.x_new.as_ref());
         if tab.fsal {
-            self.k.swap(0, s - 1);
+            self.k.as_mut().swap(0, s - 1);
             self.k1_valid = true;
         } else {
             self.k1_valid = false;
@@ -187,10 +259,11 @@ impl ExplicitRk {
 
     /// Writes the continuous extension of the last step accepted with `dense = true` at
     /// time `t` (within that step) into `out`.
+    #[cfg(feature = "std")]
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
         let theta = (t - self.dense_t) / self.dense_h;
         let theta1 = 1.0 - theta;
-        let [r1, r2, r3, r4, r5] = &self.dense;
+        let [r1, r2, r3, r4, r5] = self.dense.each_ref().map(|r| r.as_ref());
         for (i, o) in out.iter_mut().enumerate() {
             *o = r1[i] + theta * (r2[i] + theta1 * (r3[i] + theta * (r4[i] + theta1 * r5[i])));
         }
@@ -219,11 +292,11 @@ impl ExplicitRk {
         let n = x.len().max(1) as f64;
         let norm = |v: &dyn Fn(usize) -> f64| {
             let sum: f64 = (0..x.len())
-                .map(|i| scaled(v(i), atol + rtol * x[i].abs()).powi(2))
+                .map(|i| math::powi(scaled(v(i), atol + rtol * x[i].abs()), 2))
                 .sum();
-            (sum / n).sqrt()
+            math::sqrt(sum / n)
         };
-        let f0 = &self.k[0];
+        let f0 = self.k.as_ref()[0].as_ref();
         let d0 = norm(&|i| x[i]);
         let d1 = norm(&|i| f0[i]);
         let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
@@ -236,18 +309,19 @@ impl ExplicitRk {
         }
         let h0 = h0.min(max_step);
         // One explicit Euler step, into the scratch stage buffers.
+        let stage = self.stage.as_mut();
         for i in 0..x.len() {
-            self.stage[i] = x[i] + h0 * f0[i];
+            stage[i] = x[i] + h0 * f0[i];
         }
-        let (first, rest) = self.k.split_at_mut(1);
-        eval(model, t + h0, &self.stage, &mut rest[0], n_rhs)?;
-        let (f0, f1) = (&first[0], &rest[0]);
+        let (first, rest) = self.k.as_mut().split_at_mut(1);
+        eval(model, t + h0, stage, rest[0].as_mut(), n_rhs)?;
+        let (f0, f1) = (first[0].as_ref(), rest[0].as_ref());
         let d2 = norm(&|i| f1[i] - f0[i]) / h0;
         let d12 = d1.max(d2);
         let h1 = if d12 <= 1e-15 {
             (h0 * 1e-3).max(1e-6)
         } else {
-            (0.01 / d12).powf(1.0 / f64::from(q + 1))
+            math::powf(0.01 / d12, 1.0 / f64::from(q + 1))
         };
         let h = (100.0 * h0).min(h1).min(max_step);
         // A zero scale (atol = 0 at a zero state) can make the estimate degenerate.
@@ -268,12 +342,12 @@ fn scaled(v: f64, scale: f64) -> f64 {
 }
 
 /// `out = x + h * sum_j w_j k_j`, skipping zero weights.
-fn combine(out: &mut [f64], x: &[f64], h: f64, w: &[f64], k: &[Vec<f64>]) {
+fn combine<V: AsRef<[f64]>>(out: &mut [f64], x: &[f64], h: f64, w: &[f64], k: &[V]) {
     out.copy_from_slice(x);
     for (wj, kj) in w.iter().zip(k) {
         if *wj != 0.0 {
             let c = h * wj;
-            for (o, kv) in out.iter_mut().zip(kj) {
+            for (o, kv) in out.iter_mut().zip(kj.as_ref()) {
                 *o += c * kv;
             }
         }
@@ -311,5 +385,15 @@ pub(crate) fn check_state(x: &[f64], t: f64) -> Result<(), NonFinite> {
             value: x[index],
             kind: NonFiniteKind::State,
         }),
+    }
+}
+
+/// Names the state of a kernel's non-finite value.
+pub(crate) fn non_finite<M: Model>(nf: NonFinite) -> SolverError {
+    SolverError::NonFiniteState {
+        t: nf.t,
+        state: M::STATE_NAMES.get(nf.index).copied().unwrap_or("?"),
+        value: nf.value,
+        kind: nf.kind,
     }
 }

@@ -12,17 +12,32 @@
 //!
 //! Internally the methods are data (Butcher tableaux, module `tableau`) driven through
 //! one explicit Runge–Kutta kernel (module `explicit`, which also evaluates the
-//! continuous extension); the driver (module `driver`) owns step-size control, sampling
-//! and the statistics. The stiff methods (module `stiff`) run on their own stepping loop,
+//! continuous extension) by the step-size control of module `control` (the fixed grid,
+//! and DOPRI5's PI controller); the driver (module `driver`) owns sampling and the
+//! statistics. The stiff methods (module `stiff`) run on their own stepping loop,
 //! which the driver calls one accepted step at a time: their step-size control is bound
 //! up with the Newton iteration and with reusing Jacobians and LU factors.
+//!
+//! Without the `std` feature only the settings of the explicit methods
+//! ([`FixedStep`], [`DormandPrinceOptions`]) and [`Stats`] are here: the kernel and
+//! its step-size control then run through the allocation-free integrators of
+//! [`crate::rk`].
 
+pub(crate) mod control;
+#[cfg(feature = "std")]
 mod driver;
-mod explicit;
+pub(crate) mod explicit;
 mod options;
+mod stats;
+#[cfg(feature = "std")]
 mod stiff;
-mod tableau;
+pub(crate) mod tableau;
 
-pub use driver::{sample_times_uniform, simulate, Simulation, Stats};
-pub use options::{DormandPrinceOptions, FixedStep, Solver};
+#[cfg(feature = "std")]
+pub use driver::{sample_times_uniform, simulate, Simulation};
+#[cfg(feature = "std")]
+pub use options::Solver;
+pub use options::{DormandPrinceOptions, FixedStep};
+pub use stats::Stats;
+#[cfg(feature = "std")]
 pub use stiff::{Radau5Options, Rodas4Options};

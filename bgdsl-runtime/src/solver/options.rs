@@ -1,7 +1,13 @@
 //! The public choice of integration method and its settings.
+//!
+//! [`Solver`] names the methods of the driver and needs `std`; the settings of the
+//! explicit methods, [`FixedStep`] and [`DormandPrinceOptions`], also configure the
+//! allocation-free integrators of [`crate::rk`], and exist without it.
 
+#[cfg(feature = "std")]
 use core::str::FromStr;
 
+#[cfg(feature = "std")]
 use super::stiff::{Radau5Options, Rodas4Options};
 use crate::error::SolverError;
 
@@ -25,6 +31,7 @@ use crate::error::SolverError;
 /// ```
 ///
 /// More methods may be added as further variants, hence `#[non_exhaustive]`.
+#[cfg(feature = "std")]
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Solver {
@@ -55,6 +62,7 @@ pub enum Solver {
     Rodas4(Rodas4Options),
 }
 
+#[cfg(feature = "std")]
 impl Solver {
     /// The names [`Solver::from_name`] accepts, in the order of the variants.
     pub const NAMES: &'static [&'static str] =
@@ -127,6 +135,7 @@ impl Solver {
     }
 }
 
+#[cfg(feature = "std")]
 impl Default for Solver {
     /// Adaptive Dormand–Prince 5(4) with the default options.
     fn default() -> Self {
@@ -134,6 +143,7 @@ impl Default for Solver {
     }
 }
 
+#[cfg(feature = "std")]
 impl FromStr for Solver {
     type Err = SolverError;
 
@@ -167,7 +177,8 @@ impl FixedStep {
         }
     }
 
-    fn validate(&self) -> Result<(), SolverError> {
+    /// Checks every setting against its range.
+    pub(crate) fn validate(&self) -> Result<(), SolverError> {
         check(
             "step",
             self.step,
@@ -243,7 +254,8 @@ impl Default for DormandPrinceOptions {
 }
 
 impl DormandPrinceOptions {
-    fn validate(&self) -> Result<(), SolverError> {
+    /// Checks every setting against its range.
+    pub(crate) fn validate(&self) -> Result<(), SolverError> {
         let non_negative = "a finite number >= 0";
         check(
             "rtol",

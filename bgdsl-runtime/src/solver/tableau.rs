@@ -116,7 +116,7 @@ pub(crate) const DORMAND_PRINCE_5: Tableau = Tableau {
 
 impl Tableau {
     /// The number of stages.
-    pub fn stages(&self) -> usize {
+    pub const fn stages(&self) -> usize {
         self.b.len()
     }
 }

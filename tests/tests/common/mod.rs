@@ -2,6 +2,7 @@
 //! random-number generator, and closed-form solutions.
 #![allow(dead_code)]
 
+pub mod counting;
 pub mod quick_return;
 
 use bgdsl_runtime::{DormandPrinceOptions, Model, Simulation, Solver, Trajectory};

@@ -12,9 +12,7 @@ bond_graph! {
 }
 
 fn main() {
-    let model = Train {
-        params: TrainParams::default(),
-    };
+    let model = Train::new(TrainParams::default());
     let mut dx = [0.0; 2];
     model.derivatives(0.0, &[1.0, 0.5], &mut dx);
     println!("{} {:?} {:?}", Train::NAME, model.params(), dx);

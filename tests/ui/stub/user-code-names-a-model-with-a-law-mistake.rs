@@ -11,7 +11,7 @@ bond_graph! {
 
 fn main() {
     let params: OscillatorParams = Default::default();
-    let model = Oscillator { params };
+    let model = Oscillator::new(params);
     let mut dx = [0.0; 1];
     model.derivatives(0.0, &[0.01], &mut dx);
     assert_eq!(Oscillator::STATE_NAMES.len(), 0);

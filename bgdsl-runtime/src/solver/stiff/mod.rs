@@ -18,8 +18,9 @@ mod rosenbrock;
 
 use std::time::Instant;
 
-use super::driver::{min_step, non_finite, Stats};
-use super::explicit::{check_state, NonFinite};
+use super::control::min_step;
+use super::explicit::{check_state, non_finite, NonFinite};
+use super::stats::Stats;
 use crate::error::{NonFiniteKind, SolverError};
 use crate::jacobian::JacobianEvaluator;
 use crate::linalg::{Factored, Singular, Structure};
