@@ -10,15 +10,21 @@
 //! The hidden module `reference` holds hand-written equations of some of them, for
 //! the tests and benchmarks that compare them with the generated code.
 
+pub mod catalog;
+pub mod cli;
 pub mod dc_motor;
+pub mod dc_servo;
 pub mod duffing;
 pub mod oscillator;
+pub mod plot;
 pub mod quarter_car;
 pub mod quick_return;
 pub mod quick_return_rigid;
 #[doc(hidden)]
 pub mod reference;
+pub mod report;
 pub mod rlc;
+pub mod scenario;
 
 pub use dc_motor::{DcMotor, DcMotorOutputs, DcMotorParams, DcMotorState};
 pub use duffing::{Duffing, DuffingOutputs, DuffingParams, DuffingState};

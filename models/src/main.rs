@@ -1,23 +1,27 @@
-//! `cargo run --release`: the flagship, the quick return mechanism of the seed paper
-//! written with `bond_graph!`, over 0–5 s with its default parameters; writes
-//! `out/quick_return/quick_return.csv` (the spec's results file) and prints a summary.
+//! `models`: runs the bond-graph models of bgdsl (see `models --help` and the
+//! [`models::cli`] module). Without a command (`cargo run --release`) it runs the
+//! flagship, the quick return mechanism of the seed paper, over 0–5 s with its default
+//! parameters: writes `out/quick_return/quick_return.csv` (the spec's results file),
+//! the paper's figures and `index.html`, and prints a summary.
+//!
+//! Exit status: 0 success; 1 a run failed part-way (partial results written, marked
+//! `.partial`) or output could not be written; 2 a usage or validation error (nothing
+//! written).
 
-use std::error::Error;
-use std::path::Path;
+use std::process::ExitCode;
 
-use bgdsl_runtime::{Radau5Options, Solver};
-use models::quick_return::run::run_flagship;
-use models::quick_return::QuickReturn;
+use clap::Parser;
+use models::cli::{execute, Cli};
 
-fn main() -> Result<(), Box<dyn Error>> {
-    let model = QuickReturn::default();
-    // Radau IIA at rtol 1e-6; atol 1e-10 resolves the joint deflections (~1e-4 m).
-    let solver = Solver::Radau5(Radau5Options {
-        rtol: 1e-6,
-        atol: 1e-10,
-        ..Default::default()
-    });
-    let summary = run_flagship(&model, solver, Path::new("out/quick_return"))?;
-    println!("{summary}");
-    Ok(())
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match execute(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            for line in failure.to_string().lines() {
+                eprintln!("error: {line}");
+            }
+            ExitCode::from(failure.exit_code())
+        }
+    }
 }

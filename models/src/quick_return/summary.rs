@@ -318,13 +318,22 @@ pub struct Summary {
     pub span: [f64; 2],
     /// The results file and the time it took to write, if it was written.
     pub file: Option<(PathBuf, Duration)>,
-    /// What was measured over [`WINDOW`].
+    /// What was measured over [`WINDOW`] (or the window given to [`Summary::over`]).
     pub measured: Measured,
+    /// Why the run stopped before its last sample time, when it did: the samples (and
+    /// the file) are then partial, and `Display` says so first.
+    pub failure: Option<String>,
 }
 
 impl Summary {
     /// The summary of a recorded run, measured over [`WINDOW`] (no file yet).
     pub fn of(recorded: &Recorded) -> Self {
+        Self::over(recorded, WINDOW)
+    }
+
+    /// The summary of a recorded run, measured over `window` (s, both ends included; no
+    /// file yet).
+    pub fn over(recorded: &Recorded, window: [f64; 2]) -> Self {
         let t = recorded.results.times();
         Summary {
             model: recorded.results.model_name(),
@@ -337,13 +346,15 @@ impl Summary {
                 t.last().copied().unwrap_or(f64::NAN),
             ],
             file: None,
-            measured: Measured::of(&recorded.results, WINDOW),
+            measured: Measured::of(&recorded.results, window),
+            failure: None,
         }
     }
 }
 
 /// The solver's name and its main settings, e.g. `radau5 (rtol 1e-6, atol 1e-10)`.
-struct SolverSettings<'a>(&'a Solver);
+#[derive(Clone, Copy, Debug)]
+pub struct SolverSettings<'a>(pub &'a Solver);
 
 impl fmt::Display for SolverSettings<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -396,6 +407,9 @@ impl fmt::Display for Summary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = &self.stats;
         let m = &self.measured;
+        if let Some(failure) = &self.failure {
+            writeln!(f, "PARTIAL RUN   {failure}")?;
+        }
         writeln!(
             f,
             "model          {} (quick return mechanism), {} to {} s",
@@ -422,9 +436,14 @@ impl fmt::Display for Summary {
                 writeln!(f, ", {:.1} ms writing the file", ms(*write))?;
                 writeln!(
                     f,
-                    "results        {} ({} rows, {N_COLUMNS} columns)",
+                    "results        {} ({} rows, {N_COLUMNS} columns{})",
                     path.display(),
-                    self.rows
+                    self.rows,
+                    if self.failure.is_some() {
+                        ", partial"
+                    } else {
+                        ""
+                    }
                 )?;
             }
             None => writeln!(f, " ({} samples, not written)", self.rows)?,

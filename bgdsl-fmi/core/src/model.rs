@@ -1,0 +1,240 @@
+//! What an FMU instance needs of a model, as an object-safe trait ([`FmuModel`]), and
+//! its implementation for every generated model ([`Exportable`]).
+//!
+//! One shared library serves several models, chosen at run time by the GUID the
+//! importer passes to `fmi2Instantiate`; an instance holds its model as a
+//! `Box<dyn FmuModel>`. The trait works on flat `f64` slices whose lengths the
+//! instance checks against [`Sizes`] before every call, so the generated code's length
+//! assertions never fire.
+
+use bgdsl_runtime::{Model, Solver, Stepper, WithInputs};
+
+/// The models an FMU can be made of: every model `bond_graph!` generates (they
+/// implement [`WithInputs`] and [`Default`], the defaults being the declared values).
+pub trait Exportable: WithInputs + Default + 'static {}
+
+impl<M: WithInputs + Default + 'static> Exportable for M {}
+
+/// How many numbers of each kind a model has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sizes {
+    /// States (and so state derivatives).
+    pub states: usize,
+    /// Outputs.
+    pub outputs: usize,
+    /// Parameter values, vectors and matrices flattened.
+    pub parameters: usize,
+    /// Inputs.
+    pub inputs: usize,
+}
+
+impl Sizes {
+    /// The sizes of model `M`.
+    pub fn of<M: WithInputs>() -> Self {
+        Sizes {
+            states: M::N_STATES,
+            outputs: M::N_OUTPUTS,
+            parameters: M::N_PARAMETER_VALUES,
+            inputs: M::INPUTS.len(),
+        }
+    }
+}
+
+/// A model behind an FMU instance: evaluation for Model Exchange, integration with the
+/// model's own solver for Co-Simulation, and flat access to parameters and inputs.
+///
+/// Callers pass slices of the lengths in [`FmuModel::sizes`]; implementations may
+/// panic otherwise (the FFI layer catches it, but the instance checks first).
+pub trait FmuModel {
+    /// The lengths of the slices the other methods take.
+    fn sizes(&self) -> Sizes;
+    /// Writes the initial state (from the current parameters) into `x0`.
+    fn initial_state(&self, x0: &mut [f64]);
+    /// Writes `dx/dt` at `(t, x)` into `dx`.
+    fn derivatives(&self, t: f64, x: &[f64], dx: &mut [f64]);
+    /// Writes the outputs at `(t, x)` into `y`.
+    fn outputs(&self, t: f64, x: &[f64], y: &mut [f64]);
+    /// Writes the parameter values into `out`.
+    fn parameter_values(&self, out: &mut [f64]);
+    /// Sets the parameter values from `values`.
+    fn set_parameter_values(&mut self, values: &[f64]);
+    /// Writes the inputs into `out`.
+    fn input_values(&self, out: &mut [f64]);
+    /// Sets the inputs from `values`.
+    fn set_input_values(&mut self, values: &[f64]);
+    /// Prepares Co-Simulation from time `t0` and state `x0`: the model's default solver
+    /// ([`Model::default_solver`]), its relative tolerance replaced by `tolerance` when
+    /// the importer gives one.
+    ///
+    /// # Errors
+    ///
+    /// The solver cannot be set up (an invalid tolerance) or `x0` is not finite.
+    fn start_stepping(&mut self, t0: f64, x0: &[f64], tolerance: Option<f64>)
+        -> Result<(), String>;
+    /// Integrates from where the last step ended to time `t` with the inputs held, and
+    /// writes the state there into `x`. Before [`FmuModel::start_stepping`] this is an
+    /// error.
+    ///
+    /// # Errors
+    ///
+    /// The solver failed; the integration then stays where it was.
+    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<(), String>;
+    /// Back to the model as first made: default parameters and inputs, no integration.
+    fn reset(&mut self);
+}
+
+/// A generated model and, once Co-Simulation starts, the [`Stepper`] that owns it.
+#[derive(Debug)]
+pub struct Adapter<M: Model + 'static> {
+    holder: Holder<M>,
+}
+
+#[derive(Debug)]
+enum Holder<M: Model + 'static> {
+    /// Before Co-Simulation starts, and always for Model Exchange.
+    Model(M),
+    /// Co-Simulation: the stepper owns the model.
+    Stepping(Box<Stepper<M>>),
+}
+
+impl<M: Exportable> Adapter<M> {
+    /// The model with its default parameters and inputs.
+    pub fn new() -> Self {
+        Adapter {
+            holder: Holder::Model(M::default()),
+        }
+    }
+
+    /// The model as a trait object, for an FMU instance.
+    pub fn boxed() -> Box<dyn FmuModel> {
+        Box::new(Self::new())
+    }
+
+    fn model(&self) -> &M {
+        match &self.holder {
+            Holder::Model(model) => model,
+            Holder::Stepping(stepper) => stepper.model(),
+        }
+    }
+
+    fn model_mut(&mut self) -> &mut M {
+        match &mut self.holder {
+            Holder::Model(model) => model,
+            Holder::Stepping(stepper) => stepper.model_mut(),
+        }
+    }
+}
+
+impl<M: Exportable> Default for Adapter<M> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// `solver` with its relative tolerance set to `rtol` (adaptive methods; the fixed-step
+/// ones have none).
+fn with_tolerance(solver: Solver, rtol: f64) -> Solver {
+    match solver {
+        Solver::DormandPrince(mut o) => {
+            o.rtol = rtol;
+            Solver::DormandPrince(o)
+        }
+        Solver::Radau5(mut o) => {
+            o.rtol = rtol;
+            Solver::Radau5(o)
+        }
+        Solver::Rodas4(mut o) => {
+            o.rtol = rtol;
+            Solver::Rodas4(o)
+        }
+        other => other,
+    }
+}
+
+impl<M: Exportable> FmuModel for Adapter<M> {
+    fn sizes(&self) -> Sizes {
+        Sizes::of::<M>()
+    }
+
+    fn initial_state(&self, x0: &mut [f64]) {
+        self.model().initial_state(x0);
+    }
+
+    fn derivatives(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        self.model().derivatives::<f64>(t, x, dx);
+    }
+
+    fn outputs(&self, t: f64, x: &[f64], y: &mut [f64]) {
+        self.model().outputs::<f64>(t, x, y);
+    }
+
+    fn parameter_values(&self, out: &mut [f64]) {
+        self.model().parameter_values(out);
+    }
+
+    fn set_parameter_values(&mut self, values: &[f64]) {
+        self.model_mut().set_parameter_values(values);
+    }
+
+    fn input_values(&self, out: &mut [f64]) {
+        self.model().input_values(out);
+    }
+
+    fn set_input_values(&mut self, values: &[f64]) {
+        self.model_mut().set_input_values(values);
+    }
+
+    fn start_stepping(
+        &mut self,
+        t0: f64,
+        x0: &[f64],
+        tolerance: Option<f64>,
+    ) -> Result<(), String> {
+        // The model moves into the stepper; a default one stands in meanwhile.
+        let model = match core::mem::replace(&mut self.holder, Holder::Model(M::default())) {
+            Holder::Model(model) => model,
+            Holder::Stepping(mut stepper) => {
+                let result = stepper.set_state(t0, x0).map_err(|e| e.to_string());
+                self.holder = Holder::Stepping(stepper);
+                return result;
+            }
+        };
+        let mut solver = model.default_solver();
+        if let Some(rtol) = tolerance {
+            solver = with_tolerance(solver, rtol);
+        }
+        // Everything `Stepper::starting_at` checks, checked first, so that a failure
+        // gives the model (and the parameters set so far) back.
+        let problem = if let Err(e) = solver.validate() {
+            Some(format!("cannot start the {} solver: {e}", solver.name()))
+        } else {
+            x0.iter().position(|v| !v.is_finite()).map(|i| {
+                let name = M::STATE_NAMES.get(i).copied().unwrap_or("?");
+                format!("the initial state {name} = {} is not finite", x0[i])
+            })
+        };
+        if let Some(problem) = problem {
+            self.holder = Holder::Model(model);
+            return Err(problem);
+        }
+        let stepper = Stepper::starting_at(model, solver, t0, x0)
+            .map_err(|e| format!("cannot start the {} solver: {e}", solver.name()))?;
+        self.holder = Holder::Stepping(Box::new(stepper));
+        Ok(())
+    }
+
+    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<(), String> {
+        match &mut self.holder {
+            Holder::Model(_) => Err("the integration has not been started".to_string()),
+            Holder::Stepping(stepper) => {
+                stepper.advance_to(t).map_err(|e| e.to_string())?;
+                x.copy_from_slice(stepper.state());
+                Ok(())
+            }
+        }
+    }
+
+    fn reset(&mut self) {
+        self.holder = Holder::Model(M::default());
+    }
+}

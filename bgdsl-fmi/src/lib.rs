@@ -1,0 +1,151 @@
+//! FMI 2.0 export of the shipped bgdsl models: one shared library that serves every
+//! model of the `models` catalogue as a functional mock-up unit (Model Exchange, and
+//! Co-Simulation with the model's own stiff solver inside), and the FMUs themselves.
+//!
+//! # Building an FMU
+//!
+//! ```sh
+//! cargo build -p bgdsl-fmi --release      # target/release/libbgdsl_fmi.so: the FMUs' binary
+//! ```
+//!
+//! then, from Rust, [`write_fmu`] (`models fmu <model>` does the same):
+//!
+//! ```no_run
+//! let library = bgdsl_fmi::find_library()?; // next to the program, or $BGDSL_FMI_LIBRARY
+//! let fmu = bgdsl_fmi::write_fmu("oscillator", &library, "oscillator.fmu".as_ref())?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The FMU holds `modelDescription.xml`, `binaries/linux64/oscillator.so` (this
+//! library, renamed) and `documentation/index.html`. Any FMI 2.0 importer loads it:
+//!
+//! ```python
+//! import fmpy
+//! fmpy.simulate_fmu("oscillator.fmu", fmi_type="CoSimulation", stop_time=5.0,
+//!                   start_values={"k": 200.0})
+//! ```
+//!
+//! # One library, many models
+//!
+//! Every FMU of the catalogue carries the same binary. `fmi2Instantiate` receives the
+//! GUID from the FMU's `modelDescription.xml` and picks the model whose description
+//! hashes to it ([`MODELS`]); an unknown GUID (an FMU written with a library built from
+//! other model code) is refused with a message that lists the GUIDs this library
+//! serves. The FMI functions are the `extern "C"` items of [`fmi2`]; see
+//! [`bgdsl_fmi_core`] for the variables, value references and state machine.
+#![warn(missing_docs)]
+
+use std::path::{Path, PathBuf};
+
+use bgdsl_fmi_core::{ModelDescription, ModelEntry};
+use models::quick_return::QuickReturn;
+use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+
+pub use bgdsl_fmi_core::{find_library, library_file_name, FmuError};
+
+/// The models this library serves, by `modelIdentifier`: the names of the `models`
+/// catalogue.
+pub static MODELS: &[ModelEntry] = &[
+    ModelEntry::new::<QuickReturn>("quick_return"),
+    ModelEntry::new::<Oscillator>("oscillator"),
+    ModelEntry::new::<SeriesRlc>("rlc"),
+    ModelEntry::new::<DcMotor>("dc_motor"),
+    ModelEntry::new::<QuarterCar>("quarter_car"),
+    ModelEntry::new::<Duffing>("duffing"),
+];
+
+bgdsl_fmi_core::export_fmi2!(MODELS);
+
+/// The entry for the model called `name`.
+///
+/// # Errors
+///
+/// [`UnknownModel`] when the library serves no such model; it lists the ones it does.
+pub fn model(name: &str) -> Result<&'static ModelEntry, UnknownModel> {
+    bgdsl_fmi_core::registry::find(MODELS, name).ok_or_else(|| UnknownModel {
+        name: name.to_string(),
+    })
+}
+
+/// The description (`modelDescription.xml` content, GUID) of the model called `name`.
+///
+/// # Errors
+///
+/// As [`model`].
+pub fn describe(name: &str) -> Result<ModelDescription, UnknownModel> {
+    Ok(model(name)?.describe())
+}
+
+/// Writes the FMU of the model called `name` (a name of the catalogue, which becomes
+/// the `modelIdentifier`) with `library` as its binary (this crate's shared library,
+/// see [`find_library`]); `out` is the FMU file, or an existing folder to write
+/// `<name>.fmu` into. Written whole or not at all; returns the file written.
+///
+/// # Errors
+///
+/// An unknown model, a library that cannot be read, or the file cannot be written.
+pub fn write_fmu(name: &str, library: &Path, out: &Path) -> Result<PathBuf, ExportError> {
+    let entry = model(name)?;
+    let written = bgdsl_fmi_core::write_fmu(&entry.describe(), entry.identifier(), library, out)?;
+    Ok(written)
+}
+
+/// Why [`write_fmu`] failed.
+#[derive(Debug)]
+pub enum ExportError {
+    /// No such model.
+    UnknownModel(UnknownModel),
+    /// The FMU could not be made or written.
+    Fmu(FmuError),
+}
+
+impl core::fmt::Display for ExportError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ExportError::UnknownModel(e) => e.fmt(f),
+            ExportError::Fmu(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for ExportError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ExportError::UnknownModel(e) => Some(e),
+            ExportError::Fmu(e) => Some(e),
+        }
+    }
+}
+
+impl From<UnknownModel> for ExportError {
+    fn from(e: UnknownModel) -> Self {
+        ExportError::UnknownModel(e)
+    }
+}
+
+impl From<FmuError> for ExportError {
+    fn from(e: FmuError) -> Self {
+        ExportError::Fmu(e)
+    }
+}
+
+/// A model name this library does not serve.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownModel {
+    /// The name asked for.
+    pub name: String,
+}
+
+impl core::fmt::Display for UnknownModel {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let known: Vec<&str> = MODELS.iter().map(|e| e.identifier()).collect();
+        write!(
+            f,
+            "no model called `{}` can be exported; the models are: {}",
+            self.name,
+            known.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownModel {}

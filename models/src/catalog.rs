@@ -1,0 +1,347 @@
+//! The models the `models` program knows, by name, and everything it needs to treat
+//! them alike: their parameters (defaults, units, docs), overriding parameters by name,
+//! physical validation, and running them into files.
+//!
+//! | name | model |
+//! |---|---|
+//! | `quick_return` | [`QuickReturn`]: the flagship, writes the spec's results file and the paper's figures |
+//! | `oscillator` | [`Oscillator`] |
+//! | `rlc` | [`SeriesRlc`] |
+//! | `dc_motor` | [`DcMotor`] |
+//! | `quarter_car` | [`QuarterCar`] |
+//! | `duffing` | [`Duffing`] |
+//!
+//! Parameters are handled as YAML values ([`serde_yaml::Mapping`]): the defaults are the
+//! model's `Params::default()` serialised, an override replaces one entry (after a check
+//! that the name exists and the value has the default's shape: a number, or a list of as
+//! many numbers), and the result is deserialised back into the model's parameter struct.
+//! So one piece of code serves every model, and a scenario file, a `--set NAME=VALUE`
+//! flag and a sweep all go through it.
+//!
+//! # Files
+//!
+//! A run ([`CatalogModel::run`]) writes into its output directory (created if needed):
+//!
+//! - the results: `quick_return.csv` (the spec's file, always its 56 columns) for the
+//!   quick return, `<name>.csv` (`t`, then the recorded states and outputs, all of them
+//!   by default) for the other models, and `quick_return_extra.csv` when a quick return
+//!   run records extra columns;
+//! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
+//!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
+//!   output against time);
+//! - `index.html`: the run's summary and every figure it drew, self-contained.
+//!
+//! A sweep ([`run_sweep`]) runs every point of the grid over one or two parameters on
+//! rayon's pool (one run per task, as many at once as there are cores, or
+//! `RAYON_NUM_THREADS`) and writes `sweep.csv` (the parameters, then `peak_<name>` for
+//! each metric: the largest magnitude over the window), one chart per metric
+//! (`sweep_peak_<name>.png`, `.svg`) and `index.html`; no per-run results.
+//!
+//! Every file is written whole or not at all: into a temporary file in the same
+//! directory, synced and renamed into place.
+//!
+//! # Partial runs and stale files
+//!
+//! A run that fails part-way (a solver error, its step or wall-time budget used up, a
+//! Ctrl-C) still writes what it computed: each results file gets `.partial` before its
+//! extension (`quick_return.partial.csv`), its figures are drawn from the samples it
+//! has, and its summary (printed, and in `index.html`) starts with `PARTIAL RUN` and
+//! the reason; the [`Outcome`] carries the failure. A sweep with failed (or, after a
+//! Ctrl-C, unrun) points writes them as `NaN`, lists them in its summary and writes
+//! `sweep.partial.csv`.
+//!
+//! The results files and `index.html` in an output directory always come from the
+//! latest run there: a complete run removes a `.partial.csv` of the same name left by
+//! an earlier run, a partial run removes the complete `.csv` of an earlier one, and a
+//! quick return run that records no extra columns removes an earlier
+//! `quick_return_extra*.csv`. Figure files are overwritten by the run that draws them;
+//! a figure file that the latest `index.html` does not show is from an earlier run.
+//!
+//! # Example
+//!
+//! ```
+//! use models::catalog;
+//!
+//! let entry = catalog::find("quick_return").unwrap();
+//! let mut params = entry.model.default_parameters();
+//! catalog::set_parameter(entry, &mut params, "m1", serde_yaml::from_str("0").unwrap()).unwrap();
+//! let problems = entry.model.check(&params);
+//! assert_eq!(problems[0].keys, ["m1"]);
+//! assert!(problems[0].message.contains("must be > 0"), "{}", problems[0].message);
+//! ```
+
+mod adapter;
+mod checks;
+mod columns;
+mod figures;
+mod params;
+mod physics;
+mod run;
+mod sweep;
+
+use core::fmt;
+use core::marker::PhantomData;
+
+use bgdsl_runtime::{CausalGraph, ParameterInfo, Radau5Options, Solver};
+use serde_yaml::Mapping;
+
+pub use checks::{Checks, Problem};
+pub use columns::{resolve_columns, Column};
+pub use figures::figure_ids;
+pub use params::{describe_value, format_value, parse_value, set_parameter};
+pub use physics::Catalogued;
+pub use run::{Observer, Outcome, Plots, RunError, RunPlan, Silent};
+pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
+
+use crate::quick_return::QuickReturn;
+use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+
+/// What a model's run writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResultsKind {
+    /// `<name>.csv`: `t`, then the recorded states and outputs (all by default).
+    Trajectory,
+    /// The quick return spec's results file `quick_return.csv` (its 56 columns, always),
+    /// the paper's figures, and optionally `quick_return_extra.csv` with other states
+    /// and outputs.
+    QuickReturn,
+}
+
+/// A model the program knows.
+pub struct Entry {
+    /// The name on the command line and in scenario files, e.g. `quick_return`.
+    pub name: &'static str,
+    /// One line saying what it is.
+    pub description: &'static str,
+    /// The model itself, behind an object-safe interface.
+    pub model: &'static dyn CatalogModel,
+    /// What a run writes.
+    pub results: ResultsKind,
+    /// The default end of the time span, s (runs start at 0).
+    pub t_end: f64,
+    /// The default sampling interval, s.
+    pub interval: f64,
+    /// The solver a run uses unless told otherwise.
+    pub solver: fn() -> Solver,
+}
+
+impl fmt::Debug for Entry {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Entry")
+            .field("name", &self.name)
+            .field("model", &self.model.type_name())
+            .finish_non_exhaustive()
+    }
+}
+
+/// A model of the catalogue behind an object-safe interface, so that the program can
+/// hold them in one list. Implemented for every [`Catalogued`] model; parameters are
+/// passed as the YAML mapping of all of them (see the [module documentation](self)).
+pub trait CatalogModel: Sync {
+    /// The model's type name (`Model::NAME`), e.g. `QuickReturn`.
+    fn type_name(&self) -> &'static str;
+    /// The parameters in declaration order, with units and docs.
+    fn parameters(&self) -> &'static [ParameterInfo];
+    /// Every parameter with its default value, in declaration order.
+    fn default_parameters(&self) -> Mapping;
+    /// The state names, in the order of the state vector.
+    fn state_names(&self) -> &'static [&'static str];
+    /// The output names, in the order of the output vector.
+    fn output_names(&self) -> &'static [&'static str];
+    /// What is wrong with `params` (which must hold every parameter, each of the right
+    /// shape, as [`set_parameter`] keeps them): non-finite numbers and the model's
+    /// physical checks. Empty when the model can run with them.
+    fn check(&self, params: &Mapping) -> Vec<Problem>;
+    /// The declared initial state for `params`.
+    ///
+    /// # Errors
+    ///
+    /// When `params` do not deserialise into the model's parameters.
+    fn initial_state(&self, params: &Mapping) -> Result<Vec<f64>, RunError>;
+    /// The causal bond graph the model was generated from.
+    fn causal_graph(&self) -> Option<&'static CausalGraph>;
+    /// What an FMI 2.0 FMU of the model declares (`models fmu`).
+    fn fmu_description(&self) -> bgdsl_fmi_core::ModelDescription;
+    /// Runs `plan` and writes its files (see [`RunPlan`] and [`Outcome`]).
+    ///
+    /// # Errors
+    ///
+    /// [`RunError`] when nothing could be written; a run that fails part-way is an
+    /// [`Outcome`] with a failure.
+    fn run(
+        &self,
+        entry: &Entry,
+        plan: &RunPlan,
+        observer: &dyn Observer,
+    ) -> Result<Outcome, RunError>;
+    /// Runs one point of a sweep and returns each metric's value (`NaN` where the
+    /// window holds no sample).
+    ///
+    /// # Errors
+    ///
+    /// [`RunError`] when the run fails or is stopped.
+    fn sweep_point(
+        &self,
+        plan: &RunPlan,
+        metrics: &[Metric],
+        window: [f64; 2],
+        observer: &dyn Observer,
+    ) -> Result<Vec<f64>, RunError>;
+}
+
+/// The adapter that makes a [`Catalogued`] model a [`CatalogModel`].
+struct Adapter<M>(PhantomData<fn() -> M>);
+
+/// The flagship's solver: Radau IIA at rtol 1e-6; atol 1e-10 resolves the joint
+/// deflections (~1e-4 m).
+pub fn flagship_solver() -> Solver {
+    Solver::Radau5(Radau5Options {
+        rtol: 1e-6,
+        atol: 1e-10,
+        ..Default::default()
+    })
+}
+
+fn stiff_default() -> Solver {
+    Solver::stiff()
+}
+
+/// Radau5 with steps of at most 1 ms, so that it cannot step over the quarter car's
+/// bump (0.2 s long at 10 m/s) between two samples.
+fn road_solver() -> Solver {
+    Solver::Radau5(Radau5Options {
+        max_step: 1e-3,
+        ..Default::default()
+    })
+}
+
+/// Every model, in the order `models list` prints them.
+pub static MODELS: &[Entry] = &[
+    Entry {
+        name: "quick_return",
+        description: "the quick return mechanism of Vaz & Thommen (2010): five links in 3-D, \
+                      compliant joints, driven at 5 rad/s",
+        model: &Adapter::<QuickReturn>(PhantomData),
+        results: ResultsKind::QuickReturn,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: flagship_solver,
+    },
+    Entry {
+        name: "oscillator",
+        description: "a mass on a spring with a damper, pushed by a constant force",
+        model: &Adapter::<Oscillator>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 10.0,
+        interval: 1e-2,
+        solver: stiff_default,
+    },
+    Entry {
+        name: "rlc",
+        description: "a series RLC circuit switched onto a voltage source",
+        model: &Adapter::<SeriesRlc>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 0.01,
+        interval: 1e-5,
+        solver: stiff_default,
+    },
+    Entry {
+        name: "dc_motor",
+        description: "a DC motor driving an inertial load through a gearbox and a compliant \
+                      shaft",
+        model: &Adapter::<DcMotor>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 1.0,
+        interval: 1e-3,
+        solver: stiff_default,
+    },
+    Entry {
+        name: "quarter_car",
+        description: "the quarter-car suspension model driving over a bump",
+        model: &Adapter::<QuarterCar>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 3.0,
+        interval: 1e-3,
+        solver: road_solver,
+    },
+    Entry {
+        name: "duffing",
+        description: "the forced Duffing oscillator: a mass on a cubic hardening spring",
+        model: &Adapter::<Duffing>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 100.0,
+        interval: 1e-2,
+        solver: stiff_default,
+    },
+];
+
+/// A model name the catalogue does not have.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownModel {
+    /// The name asked for.
+    pub name: String,
+}
+
+impl fmt::Display for UnknownModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "unknown model `{}`; the models are: {}",
+            self.name,
+            names()
+        )
+    }
+}
+
+impl std::error::Error for UnknownModel {}
+
+/// The model names, comma-separated.
+pub fn names() -> String {
+    MODELS.iter().map(|e| e.name).collect::<Vec<_>>().join(", ")
+}
+
+/// The model called `name`.
+///
+/// # Errors
+///
+/// [`UnknownModel`], whose message lists the models.
+pub fn find(name: &str) -> Result<&'static Entry, UnknownModel> {
+    MODELS
+        .iter()
+        .find(|e| e.name == name)
+        .ok_or_else(|| UnknownModel {
+            name: name.to_owned(),
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_model_has_described_parameters_and_valid_defaults() {
+        for entry in MODELS {
+            let params = entry.model.default_parameters();
+            assert_eq!(
+                params.len(),
+                entry.model.parameters().len(),
+                "{}",
+                entry.name
+            );
+            assert!(entry.model.check(&params).is_empty(), "{}", entry.name);
+            let x0 = entry.model.initial_state(&params).unwrap();
+            assert_eq!(x0.len(), entry.model.state_names().len());
+            assert!(entry.model.causal_graph().is_some());
+        }
+    }
+
+    #[test]
+    fn unknown_names_list_the_models() {
+        let err = find("crank").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "unknown model `crank`; the models are: quick_return, oscillator, rlc, dc_motor, \
+             quarter_car, duffing"
+        );
+    }
+}

@@ -1,0 +1,84 @@
+//! The one implementation of [`CatalogModel`], for every [`Catalogued`] model.
+
+use bgdsl_runtime::{CausalGraph, ParameterInfo};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use serde_yaml::{Mapping, Value};
+
+use super::run::{initial_state, params_from, run_model, sweep_point};
+use super::{Adapter, CatalogModel, Catalogued, Checks, Entry, Metric, Observer, Outcome};
+use super::{Problem, RunError, RunPlan};
+
+impl<M: Catalogued> CatalogModel for Adapter<M>
+where
+    M::Params: Serialize + DeserializeOwned,
+{
+    fn fmu_description(&self) -> bgdsl_fmi_core::ModelDescription {
+        bgdsl_fmi_core::ModelDescription::of::<M>()
+    }
+
+    fn type_name(&self) -> &'static str {
+        M::NAME
+    }
+
+    fn parameters(&self) -> &'static [ParameterInfo] {
+        M::PARAMETERS
+    }
+
+    fn default_parameters(&self) -> Mapping {
+        match serde_yaml::to_value(M::Params::default()) {
+            Ok(Value::Mapping(m)) => m,
+            // A generated parameter struct always serialises to a mapping.
+            _ => Mapping::new(),
+        }
+    }
+
+    fn state_names(&self) -> &'static [&'static str] {
+        M::STATE_NAMES
+    }
+
+    fn output_names(&self) -> &'static [&'static str] {
+        M::OUTPUT_NAMES
+    }
+
+    fn check(&self, params: &Mapping) -> Vec<Problem> {
+        let mut checks = Checks::new(M::PARAMETERS);
+        checks.finite(params);
+        if checks.count() > 0 {
+            return checks.into_problems();
+        }
+        match params_from::<M::Params>(params) {
+            Ok(p) => M::check_params(&p, &mut checks),
+            Err(e) => checks.problem(&[], e.to_string()),
+        }
+        checks.into_problems()
+    }
+
+    fn initial_state(&self, params: &Mapping) -> Result<Vec<f64>, RunError> {
+        let model = M::from_params(params_from(params)?);
+        Ok(initial_state(&model, &[]))
+    }
+
+    fn causal_graph(&self) -> Option<&'static CausalGraph> {
+        M::from_params(M::Params::default()).causal_graph()
+    }
+
+    fn run(
+        &self,
+        entry: &Entry,
+        plan: &RunPlan,
+        observer: &dyn Observer,
+    ) -> Result<Outcome, RunError> {
+        run_model::<M>(entry, plan, observer)
+    }
+
+    fn sweep_point(
+        &self,
+        plan: &RunPlan,
+        metrics: &[Metric],
+        window: [f64; 2],
+        observer: &dyn Observer,
+    ) -> Result<Vec<f64>, RunError> {
+        sweep_point::<M>(plan, metrics, window, observer)
+    }
+}

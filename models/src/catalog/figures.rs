@@ -1,0 +1,176 @@
+//! The catalogue's calls into the plotting modules: the quick return's figures
+//! ([`crate::quick_return::figures`]), one chart per output against time for the other
+//! models, the sweep's charts (all with [`crate::plot`]), and `index.html`
+//! ([`crate::report`]). Every image is written in PNG and SVG.
+
+use std::path::{Path, PathBuf};
+
+use super::columns::Table;
+use super::params::format_number;
+use super::{Entry, Plots, RunError, SweepPlan};
+use crate::plot::{draw_line_chart, ImageFormat, LineChart, PlotError, Series};
+use crate::quick_return::figures::{draw_figures, DrawnFigure, FigureOptions, FIGURE_IDS};
+use crate::quick_return::results::Results;
+use crate::quick_return::QuickReturnParams;
+use crate::report::write_index;
+
+/// The ids of the quick return's figures (`fig03` … `fig21`).
+pub fn figure_ids() -> &'static [&'static str] {
+    FIGURE_IDS
+}
+
+fn plot_error(e: PlotError) -> RunError {
+    RunError::Figures(e.to_string())
+}
+
+/// The paper's figures (and the extras) from a quick return run.
+pub(super) fn quick_return(
+    results: &Results,
+    params: &QuickReturnParams,
+    dir: &Path,
+    plots: &Plots,
+) -> Result<Vec<DrawnFigure>, RunError> {
+    let options = FigureOptions {
+        only: match plots {
+            Plots::Only(ids) => Some(ids.clone()),
+            _ => None,
+        },
+        ..FigureOptions::default()
+    };
+    draw_figures(results, params, dir, &options).map_err(plot_error)
+}
+
+/// A file name from a column name: letters, digits, `_` and `-` kept, the rest `_`.
+fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// One chart per recorded output (or per chosen output) against time.
+pub(super) fn trajectory(
+    entry: &Entry,
+    table: &Table,
+    dir: &Path,
+    plots: &Plots,
+) -> Result<Vec<DrawnFigure>, RunError> {
+    let outputs = entry.model.output_names();
+    let mut drawn = Vec::new();
+    for (name, values) in table.columns() {
+        let wanted = match plots {
+            Plots::Only(ids) => ids.iter().any(|id| id == name),
+            _ => outputs.contains(&name),
+        };
+        if !wanted || table.len() < 2 {
+            continue;
+        }
+        let chart = LineChart {
+            title: format!(
+                "{} ({}): {name} against time",
+                entry.model.type_name(),
+                entry.name
+            ),
+            x_label: "time t (s)".to_owned(),
+            y_label: name.to_owned(),
+            series: vec![Series::new(
+                name,
+                table
+                    .times()
+                    .iter()
+                    .copied()
+                    .zip(values.iter().copied())
+                    .collect(),
+            )],
+        };
+        let files = draw_line_chart(&chart, &dir.join(file_stem(name)), &ImageFormat::ALL)
+            .map_err(plot_error)?;
+        drawn.push(DrawnFigure {
+            id: name.to_owned(),
+            title: chart.title,
+            caption: format!("Output `{name}` of {} at every sample.", entry.name),
+            files,
+        });
+    }
+    Ok(drawn)
+}
+
+/// One chart per metric of a sweep, against the first axis (one curve per value of
+/// the second axis, if any).
+pub(super) fn sweep(
+    plan: &SweepPlan,
+    points: &[Vec<f64>],
+    rows: &[Vec<f64>],
+    dir: &Path,
+) -> Result<Vec<DrawnFigure>, RunError> {
+    let Some(first) = plan.axes.first() else {
+        return Ok(Vec::new());
+    };
+    let axis_label = |name: &str, unit: &str| {
+        if unit.is_empty() {
+            name.to_owned()
+        } else {
+            format!("{name} ({unit})")
+        }
+    };
+    let mut drawn = Vec::new();
+    for (m, metric) in plan.metrics.iter().enumerate() {
+        let series = match plan.axes.get(1) {
+            None => vec![Series::new(
+                metric.label(),
+                points.iter().zip(rows).map(|(p, r)| (p[0], r[m])).collect(),
+            )],
+            Some(second) => second
+                .values
+                .iter()
+                .map(|&v| {
+                    let label = format!("{} = {} {}", second.name, format_number(v), second.unit);
+                    let curve = points
+                        .iter()
+                        .zip(rows)
+                        .filter(|(p, _)| p[1] == v)
+                        .map(|(p, r)| (p[0], r[m]))
+                        .collect();
+                    Series::new(label.trim_end(), curve)
+                })
+                .collect(),
+        };
+        let chart = LineChart {
+            title: format!(
+                "Peak |{}| over {} to {} s of each run, against {}",
+                metric.name, plan.window[0], plan.window[1], first.name
+            ),
+            x_label: axis_label(&first.name, &first.unit),
+            y_label: metric.label(),
+            series,
+        };
+        let stem = format!("sweep_{}", file_stem(&metric.column_name()));
+        let files =
+            draw_line_chart(&chart, &dir.join(stem), &ImageFormat::ALL).map_err(plot_error)?;
+        drawn.push(DrawnFigure {
+            id: metric.column_name(),
+            title: chart.title,
+            caption: format!(
+                "The largest magnitude of {} over {} to {} s of each run, against {}.",
+                metric.name, plan.window[0], plan.window[1], first.name
+            ),
+            files,
+        });
+    }
+    Ok(drawn)
+}
+
+/// Writes `index.html` with the summary and the figures.
+pub(super) fn index(
+    dir: &Path,
+    title: &str,
+    summary: &str,
+    figures: &[DrawnFigure],
+) -> Result<PathBuf, RunError> {
+    write_index(dir, title, summary, figures).map_err(plot_error)
+}

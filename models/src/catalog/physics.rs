@@ -1,0 +1,198 @@
+//! What the catalogue needs of a model beyond [`Model`]: how to make one from its
+//! parameters, and which parameter values make physical sense for it.
+
+use bgdsl_runtime::multibond::box_inertia;
+
+use super::Checks;
+use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
+use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+
+/// A model of the catalogue: made from its parameter struct, with physical checks of
+/// the parameters (beyond "every number is finite", which the catalogue checks for all).
+pub trait Catalogued: bgdsl_runtime::WithInputs + Default + Sync + Sized + 'static {
+    /// The model with these parameters.
+    fn from_params(params: Self::Params) -> Self;
+    /// Records in `checks` every physically meaningless value of `params`: a mass of
+    /// zero, a negative stiffness, a link that cannot be assembled.
+    fn check_params(params: &Self::Params, checks: &mut Checks);
+}
+
+impl Catalogued for QuickReturn {
+    fn from_params(params: QuickReturnParams) -> Self {
+        QuickReturn::new(params)
+    }
+
+    /// Masses positive; edge lengths not negative, and the length (the x edge) of the
+    /// crank, rocker and rod positive, as their points sit at its ends; each link's box
+    /// inertia positive definite (at most one edge length 0); `d` positive; stiffnesses
+    /// and dampings not negative; the K3C point switch 0 or 1; and the mechanism can be
+    /// assembled at `theta0` (the rod reaches the output slider's guide from the
+    /// rocker's tip).
+    fn check_params(p: &QuickReturnParams, checks: &mut Checks) {
+        let links = [
+            ("crank", "m1", p.m1, "l1", p.l1),
+            ("slider", "m2", p.m2, "l2", p.l2),
+            ("rocker", "m3", p.m3, "l3", p.l3),
+            ("connecting rod", "m4", p.m4, "l4", p.l4),
+            ("output slider", "m5", p.m5, "l5", p.l5),
+        ];
+        let mut geometry_ok = true;
+        for (link, m_name, m, l_name, l) in links {
+            checks.positive(m_name, m);
+            let before = checks.count();
+            checks.non_negative_each(l_name, &l);
+            if matches!(l_name, "l1" | "l3" | "l4") && (l[0].is_nan() || l[0] <= 0.0) {
+                let message = format!(
+                    "the {link}'s length {l_name}[0] must be > 0 m (its points sit at its \
+                     ends), found {}",
+                    l[0]
+                );
+                checks.problem(&[l_name], message);
+            }
+            if checks.count() > before {
+                geometry_ok = false;
+                continue;
+            }
+            if m > 0.0 {
+                let j = box_inertia(m, l[0], l[1], l[2]);
+                if !(j.x > 0.0 && j.y > 0.0 && j.z > 0.0) {
+                    let message = format!(
+                        "the {link}'s inertia is not positive definite: the box {l_name} = \
+                         [{}, {}, {}] m of mass {m_name} = {m} kg has principal moments \
+                         [{:.3e}, {:.3e}, {:.3e}] kg·m²; at most one edge length may be 0",
+                        l[0], l[1], l[2], j.x, j.y, j.z
+                    );
+                    checks.problem(&[l_name, m_name], message);
+                }
+            }
+        }
+        checks.positive("d", p.d);
+        geometry_ok &= p.d > 0.0;
+        for (name, value) in [
+            ("K01", p.K01),
+            ("R01", p.R01),
+            ("K12", p.K12),
+            ("R12", p.R12),
+            ("K03", p.K03),
+            ("R03", p.R03),
+            ("K23r", p.K23r),
+            ("R23r", p.R23r),
+            ("K_C", p.K_C),
+            ("R_C", p.R_C),
+            ("K34", p.K34),
+            ("R34", p.R34),
+            ("K45", p.K45),
+            ("R45", p.R45),
+        ] {
+            checks.non_negative(name, value);
+        }
+        for (name, value) in [
+            ("K3C", p.K3C),
+            ("R3C", p.R3C),
+            ("K5C", p.K5C),
+            ("R5C", p.R5C),
+        ] {
+            checks.non_negative_each(name, &value);
+        }
+        checks.one_of(
+            "k3c_point_under_slider",
+            p.k3c_point_under_slider,
+            &[0.0, 1.0],
+        );
+        if geometry_ok {
+            let pose = assembly(p.theta0, p.d, p.l1[0], p.l3[0], p.l4[0]);
+            let finite = pose
+                .position
+                .iter()
+                .all(|r| r.iter().all(|v| v.is_finite()))
+                && pose
+                    .orientation
+                    .iter()
+                    .all(|r| r.iter().all(|v| v.is_finite()));
+            if !finite {
+                let pin = (p.l1[0] * p.theta0.cos(), p.l1[0] * p.theta0.sin());
+                let angle = (pin.1 + p.d).atan2(pin.0);
+                let tip_y = -p.d + p.l3[0] * angle.sin();
+                let message = format!(
+                    "the mechanism cannot be assembled at theta0 = {}: the connecting rod \
+                     (l4[0] = {} m) does not reach the output slider's guide (y = 0) from the \
+                     rocker's tip at y = {tip_y:.4} m; lengthen l4[0] or change l3[0], d or \
+                     theta0",
+                    p.theta0, p.l4[0]
+                );
+                checks.problem(&["l4", "l3", "d", "theta0", "l1"], message);
+            }
+        }
+    }
+}
+
+impl Catalogued for Oscillator {
+    fn from_params(params: Self::Params) -> Self {
+        Oscillator::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("m", p.m);
+        checks.non_negative("k", p.k);
+        checks.non_negative("c", p.c);
+    }
+}
+
+impl Catalogued for SeriesRlc {
+    fn from_params(params: Self::Params) -> Self {
+        SeriesRlc::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("resistance", p.resistance);
+        checks.positive("inductance", p.inductance);
+        checks.positive("capacitance", p.capacitance);
+    }
+}
+
+impl Catalogued for DcMotor {
+    fn from_params(params: Self::Params) -> Self {
+        DcMotor::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("resistance", p.resistance);
+        checks.positive("inductance", p.inductance);
+        checks.positive("rotor_inertia", p.rotor_inertia);
+        checks.non_negative("rotor_friction", p.rotor_friction);
+        checks.positive("gear_ratio", p.gear_ratio);
+        checks.non_negative("shaft_stiffness", p.shaft_stiffness);
+        checks.non_negative("shaft_damping", p.shaft_damping);
+        checks.positive("load_inertia", p.load_inertia);
+        checks.non_negative("load_friction", p.load_friction);
+    }
+}
+
+impl Catalogued for QuarterCar {
+    fn from_params(params: Self::Params) -> Self {
+        QuarterCar::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("sprung_mass", p.sprung_mass);
+        checks.positive("unsprung_mass", p.unsprung_mass);
+        // The initial state divides by both stiffnesses (the static deflections).
+        checks.positive("suspension_stiffness", p.suspension_stiffness);
+        checks.non_negative("suspension_damping", p.suspension_damping);
+        checks.positive("tyre_stiffness", p.tyre_stiffness);
+        checks.positive("speed", p.speed);
+        checks.positive("bump_length", p.bump_length);
+        checks.positive("wavelength", p.wavelength);
+    }
+}
+
+impl Catalogued for Duffing {
+    fn from_params(params: Self::Params) -> Self {
+        Duffing::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("m", p.m);
+        checks.non_negative("c", p.c);
+    }
+}

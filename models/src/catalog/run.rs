@@ -1,0 +1,545 @@
+//! Running a model of the catalogue into files: what to run ([`RunPlan`]), who watches
+//! ([`Observer`]), what came of it ([`Outcome`]) and what can stop it ([`RunError`]).
+//! The files a run writes, and the partial-file rule, are described in the
+//! [catalogue's documentation](crate::catalog).
+
+use core::fmt;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, Stats};
+use serde::de::DeserializeOwned;
+use serde_yaml::{Mapping, Value};
+
+use super::columns::{all_columns, Table};
+use super::figures;
+use super::params::format_significant;
+use super::{Catalogued, Column, Entry, ResultsKind};
+use crate::quick_return::results::{Results, FILE_NAME};
+use crate::quick_return::run::{Error as QuickReturnError, Recorded};
+use crate::quick_return::summary::{SolverSettings, Summary};
+use crate::quick_return::QuickReturnParams;
+
+/// Which figures a run draws.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Plots {
+    /// None.
+    None,
+    /// All of them (the default).
+    #[default]
+    All,
+    /// Those with these ids (for the quick return, ids of
+    /// `quick_return::figures::FIGURE_IDS`; for other models, output names).
+    Only(Vec<String>),
+}
+
+/// A validated run: everything a model of the catalogue needs to run once.
+#[derive(Clone, Debug)]
+pub struct RunPlan {
+    /// Every parameter of the model, checked.
+    pub params: Mapping,
+    /// Initial conditions that replace the model's: (state index, value).
+    pub initial: Vec<(usize, f64)>,
+    /// The sample times, increasing, at least one; the run starts at the first.
+    pub times: Vec<f64>,
+    /// The solver and its settings.
+    pub solver: Solver,
+    /// The states and outputs to record: for the quick return, extra columns for
+    /// `quick_return_extra.csv` (`None`: no such file); for other models the columns of
+    /// `<name>.csv` (`None`: every state and output).
+    pub record: Option<Vec<(String, Column)>>,
+    /// Which figures to draw.
+    pub plots: Plots,
+    /// Where the files go.
+    pub out_dir: PathBuf,
+    /// The title of `index.html`.
+    pub title: String,
+}
+
+impl RunPlan {
+    /// The first and the last sample time.
+    pub fn span(&self) -> [f64; 2] {
+        [
+            self.times.first().copied().unwrap_or(0.0),
+            self.times.last().copied().unwrap_or(0.0),
+        ]
+    }
+}
+
+/// Watches a run: told of its progress, asked whether to stop. Every method has a
+/// default that does nothing (or never stops); [`Silent`] is that observer.
+pub trait Observer: Sync {
+    /// A run from `t0` to `t_end` starts.
+    fn run_started(&self, t0: f64, t_end: f64) {
+        let _ = (t0, t_end);
+    }
+    /// A sample at time `t` was recorded.
+    fn sample(&self, t: f64) {
+        let _ = t;
+    }
+    /// The run ended (completely or not).
+    fn run_finished(&self) {}
+    /// A sweep of `points` runs starts.
+    fn sweep_started(&self, points: usize) {
+        let _ = points;
+    }
+    /// One more point of the sweep is done.
+    fn point_done(&self) {}
+    /// Whether the run should stop now (an interrupt); asked after every sample.
+    fn stop_requested(&self) -> bool {
+        false
+    }
+}
+
+/// An observer that watches nothing and never stops a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Silent;
+
+impl Observer for Silent {}
+
+/// What a run produced.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The summary table, as printed and as shown in `index.html`.
+    pub summary: String,
+    /// Every file written, results first.
+    pub files: Vec<PathBuf>,
+    /// Why the run stopped early, when it did (the results are then partial).
+    pub failure: Option<String>,
+    /// Why the figures could not be drawn, when they could not (the results and
+    /// `index.html` are written all the same).
+    pub figures_error: Option<String>,
+    /// Wall time of the integration (with the recording).
+    pub integration: Duration,
+    /// Wall time spent drawing figures and writing `index.html`.
+    pub plotting: Duration,
+}
+
+/// Why a run wrote nothing, or not everything it should have.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The parameters did not fit the model (a bug: plans are validated).
+    Params(String),
+    /// The solver could not be set up, or (for a sweep point) the run failed.
+    Solver {
+        /// The solver's name.
+        solver: &'static str,
+        /// What it reported.
+        source: SolverError,
+    },
+    /// A file or directory could not be written or removed.
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// What was being done, e.g. "creating the output directory".
+        action: &'static str,
+        /// The underlying error.
+        source: io::Error,
+    },
+    /// A CSV file could not be written.
+    Csv(CsvError),
+    /// The quick return's results could not be recorded or written.
+    Results(QuickReturnError),
+    /// The results were written but drawing the figures or the index failed.
+    Figures(String),
+    /// A point of a sweep was not run: the sweep was interrupted first.
+    NotRun,
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RunError::Params(message) => write!(f, "invalid parameters: {message}"),
+            RunError::Solver { solver, source } => write!(f, "the {solver} run failed: {source}"),
+            RunError::Io {
+                path,
+                action,
+                source,
+            } => write!(f, "{action} `{}` failed: {source}", path.display()),
+            RunError::Csv(e) => write!(f, "{e}"),
+            RunError::Results(e) => write!(f, "{e}"),
+            RunError::Figures(message) => write!(f, "drawing the figures failed: {message}"),
+            RunError::NotRun => f.write_str("not run: the sweep was interrupted"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            RunError::Solver { source, .. } => Some(source),
+            RunError::Io { source, .. } => Some(source),
+            RunError::Csv(e) => Some(e),
+            RunError::Results(e) => Some(e),
+            RunError::Params(_) | RunError::Figures(_) | RunError::NotRun => None,
+        }
+    }
+}
+
+impl From<CsvError> for RunError {
+    fn from(e: CsvError) -> Self {
+        RunError::Csv(e)
+    }
+}
+
+/// The model's parameter struct from the mapping of every parameter.
+pub(super) fn params_from<P: DeserializeOwned>(params: &Mapping) -> Result<P, RunError> {
+    serde_yaml::from_value(Value::Mapping(params.clone()))
+        .map_err(|e| RunError::Params(e.to_string()))
+}
+
+/// The model's initial state with the plan's replacements.
+pub(super) fn initial_state<M: Model>(model: &M, initial: &[(usize, f64)]) -> Vec<f64> {
+    let mut x0 = vec![0.0; M::N_STATES];
+    model.initial_state(&mut x0);
+    for &(i, v) in initial {
+        x0[i] = v;
+    }
+    x0
+}
+
+/// Forwards every sample to some recorders and tells the observer; asks the observer
+/// whether to stop.
+pub(super) struct Monitor<'a> {
+    pub(super) recorders: Vec<&'a mut dyn Recorder>,
+    pub(super) observer: &'a dyn Observer,
+}
+
+impl Recorder for Monitor<'_> {
+    fn record(&mut self, t: f64, x: &[f64], y: &[f64]) {
+        for r in &mut self.recorders {
+            r.record(t, x, y);
+        }
+        self.observer.sample(t);
+    }
+
+    fn stop_requested(&self) -> bool {
+        self.observer.stop_requested()
+    }
+}
+
+/// One sentence on why a run stopped early.
+pub(super) fn failure_text(solver: &Solver, error: &SolverError) -> String {
+    match error {
+        SolverError::Stopped { t } => format!("interrupted after the sample at t = {t} s"),
+        other => format!("the {} run failed: {other}", solver.name()),
+    }
+}
+
+/// `stem.csv`, or `stem.partial.csv` for a partial run.
+pub(super) fn results_path(dir: &Path, stem: &str, partial: bool) -> PathBuf {
+    dir.join(if partial {
+        format!("{stem}.partial.csv")
+    } else {
+        format!("{stem}.csv")
+    })
+}
+
+/// Removes `path` if it exists.
+pub(super) fn remove_stale(path: &Path) -> Result<(), RunError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(RunError::Io {
+            path: path.to_path_buf(),
+            action: "removing the stale file",
+            source: e,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a results file under the partial-file rule: `stem.csv` or
+/// `stem.partial.csv`, removing the other.
+fn write_results(
+    dir: &Path,
+    stem: &str,
+    partial: bool,
+    write: impl FnOnce(&Path) -> Result<(), RunError>,
+) -> Result<PathBuf, RunError> {
+    let path = results_path(dir, stem, partial);
+    write(&path)?;
+    remove_stale(&results_path(dir, stem, !partial))?;
+    Ok(path)
+}
+
+/// Creates the output directory.
+pub(super) fn create_dir(dir: &Path) -> Result<(), RunError> {
+    std::fs::create_dir_all(dir).map_err(|source| RunError::Io {
+        path: dir.to_path_buf(),
+        action: "creating the output directory",
+        source,
+    })
+}
+
+/// What the integration produced.
+struct Integrated {
+    stats: Stats,
+    wall: Duration,
+    error: Option<SolverError>,
+}
+
+/// Integrates `model` through the plan's sample times into `recorders`.
+fn integrate<'a, M: Model>(
+    model: &M,
+    plan: &RunPlan,
+    recorders: Vec<&'a mut dyn Recorder>,
+    observer: &'a dyn Observer,
+) -> Result<Integrated, RunError> {
+    let x0 = initial_state(model, &plan.initial);
+    let mut sim = Simulation::new(model, plan.solver).map_err(|source| RunError::Solver {
+        solver: plan.solver.name(),
+        source,
+    })?;
+    let [t0, t_end] = plan.span();
+    let mut monitor = Monitor {
+        recorders,
+        observer,
+    };
+    observer.run_started(t0, t_end);
+    let started = Instant::now();
+    let result = sim.run(t0, &x0, &plan.times, &mut monitor);
+    let wall = started.elapsed();
+    observer.run_finished();
+    Ok(Integrated {
+        stats: sim.stats(),
+        wall,
+        error: result.err(),
+    })
+}
+
+/// Runs a model of the catalogue (see the [module documentation](self)).
+pub(super) fn run_model<M: Catalogued>(
+    entry: &Entry,
+    plan: &RunPlan,
+    observer: &dyn Observer,
+) -> Result<Outcome, RunError>
+where
+    M::Params: DeserializeOwned,
+{
+    let model = M::from_params(params_from(&plan.params)?);
+    // Room for the samples up front, up to a million (beyond, the columns grow).
+    let n = plan.times.len().min(1 << 20);
+    let quick = entry.results == ResultsKind::QuickReturn;
+    let mut results = if quick {
+        Some(Results::for_model::<M>(n).map_err(RunError::Results)?)
+    } else {
+        None
+    };
+    let selection = match (&plan.record, quick) {
+        (Some(chosen), _) => chosen.clone(),
+        (None, true) => Vec::new(),
+        (None, false) => all_columns(entry.model),
+    };
+    let mut table = (!selection.is_empty()).then(|| Table::new(&selection, n));
+    let mut recorders: Vec<&mut dyn Recorder> = Vec::new();
+    if let Some(r) = results.as_mut() {
+        recorders.push(r);
+    }
+    if let Some(t) = table.as_mut() {
+        recorders.push(t);
+    }
+    let run = integrate(&model, plan, recorders, observer)?;
+    let failure = run.error.as_ref().map(|e| failure_text(&plan.solver, e));
+    let partial = failure.is_some();
+
+    create_dir(&plan.out_dir)?;
+    let dir = plan.out_dir.as_path();
+    let mut files = Vec::new();
+    let writing = Instant::now();
+    let stem = if quick {
+        FILE_NAME.trim_end_matches(".csv")
+    } else {
+        entry.name
+    };
+    if let Some(results) = &results {
+        files.push(write_results(dir, stem, partial, |path| {
+            results.write_csv(path).map_err(RunError::Results)
+        })?);
+    }
+    let table_stem = if quick {
+        format!("{stem}_extra")
+    } else {
+        stem.to_owned()
+    };
+    match &table {
+        Some(table) => files.push(write_results(dir, &table_stem, partial, |path| {
+            table.write_csv(path).map_err(RunError::from)
+        })?),
+        None => {
+            remove_stale(&results_path(dir, &table_stem, false))?;
+            remove_stale(&results_path(dir, &table_stem, true))?;
+        }
+    }
+    let write_time = writing.elapsed();
+
+    let mut summary = match &results {
+        Some(results) => {
+            let recorded = Recorded {
+                results: results.clone(),
+                stats: run.stats,
+                solver: plan.solver,
+                wall: run.wall,
+            };
+            // The second half of the span recorded (of the plan's, for a complete run).
+            let t = results.times();
+            let (t0, t_end) = match (t.first(), t.last()) {
+                (Some(&a), Some(&b)) => (a, b),
+                _ => (0.0, 0.0),
+            };
+            let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
+            summary.file = Some((files[0].clone(), write_time));
+            summary.failure = failure.clone();
+            summary.to_string()
+        }
+        None => trajectory_summary(
+            entry,
+            plan,
+            &run,
+            table.as_ref(),
+            &files,
+            write_time,
+            &failure,
+        ),
+    };
+    if table.is_some() && quick {
+        summary.push_str(&format!(
+            "extra columns  {}\n",
+            files
+                .last()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default()
+        ));
+    }
+
+    let plotting = Instant::now();
+    let drawing = match (&plan.plots, &results, &table) {
+        (Plots::None, _, _) => Ok(Vec::new()),
+        (plots, Some(results), _) => params_from::<QuickReturnParams>(&plan.params)
+            .and_then(|params| figures::quick_return(results, &params, dir, plots)),
+        (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
+        (_, None, None) => Ok(Vec::new()),
+    };
+    // The results are written: a failure to draw still leaves the summary and the
+    // index, and is reported beside them.
+    let (drawn, figures_error) = match drawing {
+        Ok(drawn) => (drawn, None),
+        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
+        Err(other) => (Vec::new(), Some(other.to_string())),
+    };
+    let figure_files = drawn.iter().map(|f| f.files.len()).sum::<usize>();
+    if !drawn.is_empty() {
+        summary.push_str(&format!(
+            "figures        {} figures ({figure_files} files) in {:.0} ms\n",
+            drawn.len(),
+            plotting.elapsed().as_secs_f64() * 1e3
+        ));
+    }
+    let index = figures::index(dir, &plan.title, &summary, &drawn)?;
+    files.extend(drawn.into_iter().flat_map(|f| f.files));
+    files.push(index);
+    Ok(Outcome {
+        summary,
+        files,
+        failure,
+        figures_error,
+        integration: run.wall,
+        plotting: plotting.elapsed(),
+    })
+}
+
+/// The summary of a run of a model other than the quick return: the run, then each
+/// recorded column's minimum, maximum and last value.
+fn trajectory_summary(
+    entry: &Entry,
+    plan: &RunPlan,
+    run: &Integrated,
+    table: Option<&Table>,
+    files: &[PathBuf],
+    write_time: Duration,
+    failure: &Option<String>,
+) -> String {
+    use core::fmt::Write as _;
+    let mut s = String::new();
+    let [t0, t_end] = plan.span();
+    let st = &run.stats;
+    if let Some(failure) = failure {
+        let _ = writeln!(s, "PARTIAL RUN   {failure}");
+    }
+    let _ = writeln!(
+        s,
+        "model          {} ({}), {t0} to {t_end} s",
+        entry.model.type_name(),
+        entry.name
+    );
+    let _ = writeln!(s, "solver         {}", SolverSettings(&plan.solver));
+    let _ = writeln!(
+        s,
+        "steps          {} ({} accepted, {} rejected), {} derivative evaluations",
+        st.steps(),
+        st.accepted,
+        st.rejected,
+        st.n_rhs
+    );
+    let _ = writeln!(
+        s,
+        "wall time      {:.1} ms integrating, {:.1} ms writing",
+        run.wall.as_secs_f64() * 1e3,
+        write_time.as_secs_f64() * 1e3
+    );
+    if let (Some(table), Some(path)) = (table, files.first()) {
+        let _ = writeln!(
+            s,
+            "results        {} ({} rows, {} columns{})",
+            path.display(),
+            table.len(),
+            table.width(),
+            if failure.is_some() { ", partial" } else { "" }
+        );
+        let _ = writeln!(s);
+        let width = table
+            .columns()
+            .map(|(n, _)| n.len())
+            .max()
+            .unwrap_or(6)
+            .max(6);
+        let _ = writeln!(
+            s,
+            "  {:<width$}  {:>14} {:>14} {:>14}",
+            "column", "min", "max", "last"
+        );
+        for (name, values) in table.columns() {
+            let (lo, hi) = values
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            let last = values.last().copied().unwrap_or(f64::NAN);
+            let [lo, hi, last] = [lo, hi, last].map(format_significant);
+            let _ = writeln!(s, "  {name:<width$}  {lo:>14} {hi:>14} {last:>14}");
+        }
+    }
+    s
+}
+
+/// Runs one point of a sweep: the metrics' peaks over `window`.
+pub(super) fn sweep_point<M: Catalogued>(
+    plan: &RunPlan,
+    metrics: &[super::Metric],
+    window: [f64; 2],
+    observer: &dyn Observer,
+) -> Result<Vec<f64>, RunError>
+where
+    M::Params: DeserializeOwned,
+{
+    let model = M::from_params(params_from(&plan.params)?);
+    let mut peaks = super::sweep::Peaks::new(metrics, window);
+    let run = integrate(&model, plan, vec![&mut peaks], observer)?;
+    match run.error {
+        Some(source) => Err(RunError::Solver {
+            solver: plan.solver.name(),
+            source,
+        }),
+        None => Ok(peaks.into_values()),
+    }
+}

@@ -1,0 +1,363 @@
+//! Sweeps: the same run at every point of a grid over one or two parameters, spread over
+//! the cores (rayon); see the [catalogue's documentation](crate::catalog).
+
+use core::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use bgdsl_runtime::record::{write_atomically, write_number};
+use bgdsl_runtime::Recorder;
+use rayon::prelude::*;
+use serde_yaml::Value;
+
+use super::params::{format_number, format_significant};
+use super::run::{create_dir, remove_stale, results_path, Observer};
+use super::{figures, Column, Entry, RunError, RunPlan};
+
+/// One swept parameter and its values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// The parameter's name (a scalar parameter).
+    pub name: String,
+    /// Its unit, possibly empty.
+    pub unit: String,
+    /// The values, in order.
+    pub values: Vec<f64>,
+}
+
+/// A quantity a sweep reports: the peak over the window of the magnitude (Euclidean
+/// norm) of some columns, e.g. `|Tc| = |(Tc_x, Tc_y, Tc_z)|`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Metric {
+    /// The name as given, e.g. `Tc`.
+    pub name: String,
+    /// The columns whose norm is taken.
+    pub columns: Vec<Column>,
+    /// The unit, when known.
+    pub unit: Option<&'static str>,
+}
+
+impl Metric {
+    /// The column name in `sweep.csv`: `peak_<name>`.
+    pub fn column_name(&self) -> String {
+        format!("peak_{}", self.name)
+    }
+
+    /// `peak |Tc| (N·m)`.
+    pub fn label(&self) -> String {
+        match self.unit {
+            Some(unit) => format!("peak |{}| ({unit})", self.name),
+            None => format!("peak |{}|", self.name),
+        }
+    }
+}
+
+/// A validated sweep.
+#[derive(Clone, Debug)]
+pub struct SweepPlan {
+    /// The run every point starts from (its `record` is ignored; its `plots` decide
+    /// whether the sweep's charts are drawn).
+    pub base: RunPlan,
+    /// One or two axes; the points are every combination, the first axis outermost.
+    pub axes: Vec<Axis>,
+    /// What each point reports.
+    pub metrics: Vec<Metric>,
+    /// The window the peaks are taken over, s (both ends included).
+    pub window: [f64; 2],
+}
+
+impl SweepPlan {
+    /// Every point of the grid: one value per axis.
+    pub fn points(&self) -> Vec<Vec<f64>> {
+        let mut points = vec![Vec::new()];
+        for axis in &self.axes {
+            points = points
+                .into_iter()
+                .flat_map(|p| {
+                    axis.values.iter().map(move |&v| {
+                        let mut q = p.clone();
+                        q.push(v);
+                        q
+                    })
+                })
+                .collect();
+        }
+        points
+    }
+
+    /// The run at `point`.
+    pub fn plan_at(&self, point: &[f64]) -> RunPlan {
+        let mut plan = self.base.clone();
+        for (axis, &v) in self.axes.iter().zip(point) {
+            plan.params
+                .insert(Value::String(axis.name.clone()), Value::from(v));
+        }
+        plan
+    }
+}
+
+/// What a sweep produced.
+#[derive(Clone, Debug)]
+pub struct SweepOutcome {
+    /// The summary: the table and any failures.
+    pub summary: String,
+    /// Every file written, the table first.
+    pub files: Vec<PathBuf>,
+    /// Why some points have no values, when some have none.
+    pub failure: Option<String>,
+    /// Why the charts could not be drawn, when they could not (the table and
+    /// `index.html` are written all the same).
+    pub figures_error: Option<String>,
+    /// Wall time of all the runs.
+    pub wall: Duration,
+}
+
+/// Records the peak magnitude of each metric over a window.
+pub(super) struct Peaks<'a> {
+    metrics: &'a [Metric],
+    window: [f64; 2],
+    values: Vec<f64>,
+}
+
+impl<'a> Peaks<'a> {
+    pub(super) fn new(metrics: &'a [Metric], window: [f64; 2]) -> Self {
+        Peaks {
+            metrics,
+            window,
+            values: vec![f64::NAN; metrics.len()],
+        }
+    }
+
+    pub(super) fn into_values(self) -> Vec<f64> {
+        self.values
+    }
+}
+
+impl Recorder for Peaks<'_> {
+    fn record(&mut self, t: f64, x: &[f64], y: &[f64]) {
+        if t < self.window[0] || t > self.window[1] {
+            return;
+        }
+        for (metric, peak) in self.metrics.iter().zip(&mut self.values) {
+            let magnitude = metric
+                .columns
+                .iter()
+                .map(|c| c.value(x, y).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if peak.is_nan() || magnitude > *peak {
+                *peak = magnitude;
+            }
+        }
+    }
+}
+
+/// Passes only the stop request on to the sweep's observer (the runs of a sweep do not
+/// move its progress bar sample by sample).
+struct PointObserver<'a>(&'a dyn Observer);
+
+impl Observer for PointObserver<'_> {
+    fn stop_requested(&self) -> bool {
+        self.0.stop_requested()
+    }
+}
+
+/// Runs the sweep on rayon's pool and writes `sweep.csv` (or `sweep.partial.csv`), its
+/// charts and `index.html` into the base plan's output directory.
+///
+/// # Errors
+///
+/// [`RunError`] when a file cannot be written; failed points are not errors (see the
+/// [catalogue's documentation](crate::catalog)).
+pub fn run_sweep(
+    entry: &Entry,
+    plan: &SweepPlan,
+    observer: &dyn Observer,
+) -> Result<SweepOutcome, RunError> {
+    let points = plan.points();
+    observer.sweep_started(points.len());
+    let started = Instant::now();
+    let results: Vec<Result<Vec<f64>, RunError>> = points
+        .par_iter()
+        .map(|point| {
+            let watcher = PointObserver(observer);
+            let result = if observer.stop_requested() {
+                Err(RunError::NotRun)
+            } else {
+                entry
+                    .model
+                    .sweep_point(&plan.plan_at(point), &plan.metrics, plan.window, &watcher)
+            };
+            observer.point_done();
+            result
+        })
+        .collect();
+    let wall = started.elapsed();
+
+    let failures: Vec<(usize, String)> = results
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| r.as_ref().err().map(|e| (i, e.to_string())))
+        .collect();
+    let failure = (!failures.is_empty()).then(|| {
+        format!(
+            "{} of {} points failed or were not run",
+            failures.len(),
+            points.len()
+        )
+    });
+    let rows: Vec<Vec<f64>> = results
+        .iter()
+        .map(|r| match r {
+            Ok(values) => values.clone(),
+            Err(_) => vec![f64::NAN; plan.metrics.len()],
+        })
+        .collect();
+
+    let dir = plan.base.out_dir.as_path();
+    create_dir(dir)?;
+    let partial = failure.is_some();
+    let path = results_path(dir, "sweep", partial);
+    let header: Vec<String> = plan
+        .axes
+        .iter()
+        .map(|a| a.name.clone())
+        .chain(plan.metrics.iter().map(Metric::column_name))
+        .collect();
+    write_atomically(&path, |out| {
+        writeln!(out, "{}", header.join(","))?;
+        for (point, values) in points.iter().zip(&rows) {
+            for (i, v) in point.iter().chain(values).enumerate() {
+                if i > 0 {
+                    out.write_all(b",")?;
+                }
+                write_number(out, *v)?;
+            }
+            out.write_all(b"\n")?;
+        }
+        Ok(())
+    })?;
+    remove_stale(&results_path(dir, "sweep", !partial))?;
+
+    let mut summary = String::new();
+    if let Some(failure) = &failure {
+        let _ = writeln!(summary, "PARTIAL SWEEP {failure}");
+    }
+    let axes: Vec<&str> = plan.axes.iter().map(|a| a.name.as_str()).collect();
+    let _ = writeln!(
+        summary,
+        "sweep          {} over {}: {} runs on {} threads in {:.2} s",
+        entry.name,
+        axes.join(" × "),
+        points.len(),
+        rayon::current_num_threads(),
+        wall.as_secs_f64()
+    );
+    let _ = writeln!(
+        summary,
+        "peaks over     {} to {} s of each run",
+        plan.window[0], plan.window[1]
+    );
+    let _ = writeln!(
+        summary,
+        "results        {} ({} rows)",
+        path.display(),
+        points.len()
+    );
+    let _ = writeln!(summary);
+    let labels: Vec<String> = plan
+        .axes
+        .iter()
+        .map(|a| {
+            if a.unit.is_empty() {
+                a.name.clone()
+            } else {
+                format!("{} ({})", a.name, a.unit)
+            }
+        })
+        .chain(plan.metrics.iter().map(Metric::label))
+        .collect();
+    let widths: Vec<usize> = labels.iter().map(|l| l.chars().count().max(10)).collect();
+    let mut line = String::from(" ");
+    for (label, w) in labels.iter().zip(&widths) {
+        let _ = write!(line, " {label:>w$}");
+    }
+    let _ = writeln!(summary, "{}", line.trim_end());
+    for (point, values) in points.iter().zip(&rows) {
+        let mut line = String::from(" ");
+        for (v, w) in point.iter().chain(values).zip(&widths) {
+            let text = if v.is_nan() {
+                "failed".to_owned()
+            } else {
+                format_significant(*v)
+            };
+            let _ = write!(line, " {text:>w$}");
+        }
+        let _ = writeln!(summary, "{line}");
+    }
+    for (i, message) in &failures {
+        let coordinates: Vec<String> = plan
+            .axes
+            .iter()
+            .zip(&points[*i])
+            .map(|(a, v)| format!("{} = {}", a.name, format_number(*v)))
+            .collect();
+        let _ = writeln!(summary, "  at {}: {message}", coordinates.join(", "));
+    }
+
+    let mut files = vec![path];
+    let drawing = if plan.base.plots == super::Plots::None {
+        Ok(Vec::new())
+    } else {
+        figures::sweep(plan, &points, &rows, dir)
+    };
+    let (drawn, figures_error) = match drawing {
+        Ok(drawn) => (drawn, None),
+        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
+        Err(other) => (Vec::new(), Some(other.to_string())),
+    };
+    let index = figures::index(dir, &plan.base.title, &summary, &drawn)?;
+    files.extend(drawn.into_iter().flat_map(|f| f.files));
+    files.push(index);
+    Ok(SweepOutcome {
+        summary,
+        files,
+        failure,
+        figures_error,
+        wall,
+    })
+}
+
+/// The unit of a quick return results column or group, e.g. `N·m` for `Tc`.
+pub fn quick_return_unit(name: &str) -> Option<&'static str> {
+    let group = name
+        .strip_suffix("_x")
+        .or_else(|| name.strip_suffix("_y"))
+        .or_else(|| name.strip_suffix("_z"))
+        .unwrap_or(name);
+    Some(match group {
+        "Tc" => "N·m",
+        "h1" => "kg·m²/s",
+        "p3" | "p5" => "kg·m/s",
+        "r_C3" | "r_C5" => "m",
+        "crank_angle" => "rad",
+        "E_stored" => "J",
+        "P_in" | "P_diss" => "W",
+        g if g.starts_with("F_") => "N",
+        _ => return None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn knows_the_quick_return_units() {
+        assert_eq!(quick_return_unit("Tc"), Some("N·m"));
+        assert_eq!(quick_return_unit("F_O1"), Some("N"));
+        assert_eq!(quick_return_unit("F_O1_y"), Some("N"));
+        assert_eq!(quick_return_unit("R1_11"), None);
+    }
+}

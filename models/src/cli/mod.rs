@@ -1,0 +1,199 @@
+//! The `models` program: its command line (clap) and the commands behind it.
+//!
+//! ```text
+//! models                                  the flagship: `models run quick_return`
+//! models list                             the models, one line each
+//! models params <model> [--states] [--outputs]
+//!                                         parameters with defaults, units and docs
+//! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
+//!            [--solver NAME] [--rtol X] [--atol X] [--t-end X] [--no-plots]
+//! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
+//! ```
+//!
+//! # Exit status
+//!
+//! | status | meaning |
+//! |---|---|
+//! | 0 | success |
+//! | 1 | the run failed or was interrupted (its partial results are written, marked `.partial`), or a file could not be written, or `dot` failed |
+//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error; nothing was written |
+//! | 130 | a second Ctrl-C during a run |
+//!
+//! Errors go to stderr, one line each (a scenario with several errors gives several
+//! lines, each `file:line:column: message`); summaries go to stdout.
+
+mod fmu;
+mod graph;
+mod info;
+mod progress;
+mod run;
+
+use core::fmt;
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::catalog::RunError;
+use crate::scenario::Diagnostics;
+
+pub use progress::{install_interrupt_handler, Progress};
+
+/// The command line.
+#[derive(Debug, Parser)]
+#[command(
+    name = "models",
+    version,
+    about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.",
+    long_about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.\n\n\
+        Without a command, runs the flagship (the quick return mechanism, 0-5 s) and writes \
+        out/quick_return/.\n\nExit status: 0 success; 1 the run failed part-way (partial \
+        results written) or output could not be written; 2 usage or validation error \
+        (nothing written)."
+)]
+pub struct Cli {
+    /// What to do (default: run the quick return mechanism).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List the models, one line each.
+    List,
+    /// Show a model's parameters: defaults, units and docs.
+    Params {
+        /// The model (see `models list`).
+        model: String,
+        /// Also list the states with their initial values.
+        #[arg(long)]
+        states: bool,
+        /// Also list the outputs.
+        #[arg(long)]
+        outputs: bool,
+    },
+    /// Run a model with its defaults, or a scenario file.
+    Run(RunArgs),
+    /// Export the model as an FMI 2.0 FMU (Model Exchange and Co-Simulation).
+    ///
+    /// The FMU carries the shared library `libbgdsl_fmi.so`, built with
+    /// `cargo build -p bgdsl-fmi --release` (found beside this program, or at
+    /// $BGDSL_FMI_LIBRARY).
+    Fmu {
+        /// The model (see `models list`).
+        model: String,
+        /// The FMU file, or a folder to write `<model>.fmu` into (default: out/fmu/).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Print the model's causal bond graph as Graphviz DOT (or SVG).
+    Graph {
+        /// The model (see `models list`).
+        model: String,
+        /// Draw it as SVG with Graphviz's `dot` program.
+        #[arg(long)]
+        svg: bool,
+    },
+}
+
+/// The arguments of `models run`.
+#[derive(Clone, Debug, Default, Args)]
+pub struct RunArgs {
+    /// A model name (see `models list`) or a scenario file (.yaml).
+    #[arg(value_name = "MODEL | SCENARIO.yaml")]
+    pub target: String,
+    /// The output directory [default: out/NAME, NAME the model's or the scenario file's].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Set a parameter, e.g. `--set g=0` or `--set l1=[0.2,0.01,0.01]` (repeatable;
+    /// overrides the scenario).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// The solver: rk4, dopri5, dopri5-fixed, radau5 or rodas4.
+    #[arg(long, value_name = "NAME")]
+    pub solver: Option<String>,
+    /// Relative tolerance of an adaptive solver, in [1e-14, 0.1].
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of an adaptive solver, > 0.
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub atol: Option<f64>,
+    /// The end of the time span, s.
+    #[arg(long = "t-end", value_name = "X", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Draw no figures.
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+/// Why a command did not succeed; [`Failure::exit_code`] maps it to the exit status.
+#[derive(Debug)]
+pub enum Failure {
+    /// A usage error: an unknown model, a missing program.
+    Usage(String),
+    /// The scenario or the flags are invalid; nothing was written.
+    Invalid(Diagnostics),
+    /// The run could not write its results.
+    Run(RunError),
+    /// The run stopped part-way; its partial results were written.
+    Partial {
+        /// Why it stopped.
+        reason: String,
+        /// The partial results file.
+        file: Option<PathBuf>,
+    },
+    /// Something else failed (writing to stdout, running `dot`).
+    Other(String),
+}
+
+impl Failure {
+    /// The exit status: 2 for usage and validation errors, 1 for the rest.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Failure::Usage(_) | Failure::Invalid(_) => 2,
+            Failure::Run(_) | Failure::Partial { .. } | Failure::Other(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Usage(message) | Failure::Other(message) => f.write_str(message),
+            Failure::Invalid(d) => write!(f, "{d}"),
+            Failure::Run(e) => write!(f, "{e}"),
+            Failure::Partial { reason, file } => {
+                write!(f, "{reason}")?;
+                if let Some(file) = file {
+                    write!(f, "; partial results in {}", file.display())?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl std::error::Error for Failure {}
+
+/// Runs the command line.
+///
+/// # Errors
+///
+/// [`Failure`], whose `Display` is the message for stderr.
+pub fn execute(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        None => run::run(&RunArgs {
+            target: "quick_return".to_owned(),
+            ..RunArgs::default()
+        }),
+        Some(Command::List) => info::list(),
+        Some(Command::Params {
+            model,
+            states,
+            outputs,
+        }) => info::params(&model, states, outputs),
+        Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Graph { model, svg }) => graph::graph(&model, svg),
+        Some(Command::Fmu { model, out }) => fmu::fmu(&model, out),
+    }
+}

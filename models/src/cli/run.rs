@@ -1,0 +1,99 @@
+//! `models run`: a model with its defaults, or a scenario file, with the command line's
+//! overrides; validated whole before anything is written.
+
+use std::path::Path;
+
+use super::info::print;
+use super::progress::{install_interrupt_handler, Progress};
+use super::{Failure, RunArgs};
+use crate::catalog::run_sweep;
+use crate::scenario::{self, resolve, Job, Origin, Overrides, Scenario};
+
+/// Whether the target names a scenario file rather than a model.
+fn is_scenario(target: &str) -> bool {
+    let path = Path::new(target);
+    path.is_file()
+        || matches!(
+            path.extension().and_then(|e| e.to_str()),
+            Some("yaml" | "yml")
+        )
+}
+
+/// `models run <model | scenario.yaml> ...`.
+pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
+    let overrides = Overrides {
+        set: args.set.clone(),
+        solver: args.solver.clone(),
+        rtol: args.rtol,
+        atol: args.atol,
+        t_end: args.t_end,
+        no_plots: args.no_plots,
+        out: args.out.clone(),
+    };
+    let plan = if is_scenario(&args.target) {
+        let path = Path::new(&args.target);
+        let loaded = scenario::load(path).map_err(Failure::Invalid)?;
+        let name = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scenario")
+            .to_owned();
+        resolve(Some(&loaded.source), &loaded.scenario, &overrides, &name)
+    } else {
+        let scenario = Scenario {
+            model: args.target.clone(),
+            ..Scenario::default()
+        };
+        resolve(None, &scenario, &overrides, &args.target).map_err(|mut d| {
+            if let Some(first) = d.0.first_mut() {
+                if first.origin == Origin::Nowhere && first.message.starts_with("unknown model") {
+                    first
+                        .message
+                        .push_str(" (or give a scenario file, ending in .yaml)");
+                }
+            }
+            d
+        })
+    }
+    .map_err(Failure::Invalid)?;
+
+    install_interrupt_handler();
+    let progress = Progress::new();
+    let (summary, failure, figures_error, first_file) = match &plan.job {
+        Job::Run(run) => {
+            let outcome = plan
+                .entry
+                .model
+                .run(plan.entry, run, &progress)
+                .map_err(Failure::Run)?;
+            let first = outcome.files.into_iter().next();
+            (
+                outcome.summary,
+                outcome.failure,
+                outcome.figures_error,
+                first,
+            )
+        }
+        Job::Sweep(sweep) => {
+            let outcome = run_sweep(plan.entry, sweep, &progress).map_err(Failure::Run)?;
+            let first = outcome.files.into_iter().next();
+            (
+                outcome.summary,
+                outcome.failure,
+                outcome.figures_error,
+                first,
+            )
+        }
+    };
+    print(&summary)?;
+    match (failure, figures_error) {
+        (Some(reason), _) => Err(Failure::Partial {
+            reason,
+            file: first_file,
+        }),
+        (None, Some(error)) => Err(Failure::Other(format!(
+            "the results were written, but drawing the figures failed: {error}"
+        ))),
+        (None, None) => Ok(()),
+    }
+}

@@ -1,0 +1,258 @@
+//! Scenario files: a run (or a sweep of runs) of a model of the [catalogue](crate::catalog),
+//! written in YAML.
+//!
+//! ```yaml
+//! model: quick_return            # required: a name from `models list`
+//! description: g = 0             # optional: the title of index.html
+//! parameters:                    # optional: by name, see `models params <model>`
+//!   g: 0.0
+//!   l1: [0.2, 0.01, 0.01]        # a vector parameter: a list of its numbers
+//! initial:                       # optional: initial conditions by state name
+//!   output_slider.translation.p_x: 0.0   #   (`models params <model> --states`)
+//! time:                          # optional: s; default 0 to the model's end
+//!   start: 0.0
+//!   end: 5.0
+//! solver:                        # optional: default the model's (radau5)
+//!   method: radau5               #   rk4 | dopri5 | dopri5-fixed | radau5 | rodas4
+//!   rtol: 1.0e-6                 #   adaptive methods: in [1e-14, 0.1]
+//!   atol: 1.0e-10                #   adaptive methods: > 0
+//!   step: 1.0e-4                 #   fixed-step methods only: s, > 0
+//!   max_step: 0.01               #   adaptive methods only: s, > 0
+//!   max_steps: 100000            #   > 0
+//!   max_wall_time: 60            #   radau5 and rodas4 only: s, > 0
+//! output:                        # optional
+//!   interval: 0.001              #   s between samples (default: the model's), or
+//!   # count: 5001                #   a number of samples (>= 2), ends included
+//!   record: [crank_angle, j01.spring.q]   # states and outputs to record
+//! plots: all                     # optional: all (default) | none | [fig05, fig07, ...]
+//! sweep:                         # optional: run a grid of points instead of one run
+//!   parameters:                  #   one or two scalar parameters
+//!     - name: w_drive
+//!       from: 2.0                #   `from`, `to`, `steps` (values, ends included),
+//!       to: 10.0
+//!       steps: 17
+//!     # - name: R_C
+//!     #   values: [50, 100, 200] #   or a list of `values`
+//!   peaks: [Tc, F_O1]            #   outputs whose peak magnitude each run reports
+//!   window: {from: 4.0, to: 8.0} #   optional: s; default the second half of the span
+//! ```
+//!
+//! # Meaning
+//!
+//! - **`parameters`** replace the model's defaults; a vector parameter takes a list of
+//!   as many numbers. Each value is checked physically (masses > 0, stiffnesses >= 0,
+//!   a positive definite inertia, ...; [`catalog::Catalogued`](crate::catalog::Catalogued)).
+//! - **`initial`** replaces entries of the model's initial state, by state name.
+//! - **`output.record`** names states and outputs; a vector output's name stands for its
+//!   components (`Tc` for `Tc_x`, `Tc_y`, `Tc_z`). For most models it chooses the
+//!   columns of `<model>.csv` (default: every state and output). **For the quick return
+//!   the results file always has the spec's 56 columns**, whatever `record` says; the
+//!   columns `record` names are written to a second file, `quick_return_extra.csv` (no
+//!   such file without `record`).
+//! - **`plots`** chooses figures by id: for the quick return the ids of
+//!   [`FIGURE_IDS`](crate::quick_return::figures::FIGURE_IDS); for other models the
+//!   names of recorded outputs (one chart each, against time).
+//! - **`sweep`** runs every combination of the values of one or two parameters (the
+//!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
+//!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its
+//!   components) over the window; plus one chart per peak (unless `plots: none`). A
+//!   sweep writes no per-run results.
+//!
+//! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
+//! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`).
+//!
+//! # Errors
+//!
+//! Everything is checked before anything is written, and every error found is reported,
+//! one per line, as `file:line:column: message`: syntax errors and wrong types (where
+//! serde_yaml places them), unknown keys (with the valid ones listed), unknown
+//! parameter, state, output or figure names (with the valid ones), and values out of
+//! range (placed at their key by [`locate`]; see its limits).
+
+mod diagnostic;
+pub mod locate;
+mod resolve;
+mod solver;
+mod sweep;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use serde_yaml::Value;
+
+pub use diagnostic::{yaml_message, Diagnostic, Diagnostics, Origin, Source};
+pub use resolve::{resolve, Job, Overrides, Plan};
+
+/// A scenario file as written (see the [module documentation](self)).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// The model's name in the catalogue.
+    pub model: String,
+    /// What the scenario is; the title of `index.html`.
+    #[serde(default)]
+    pub description: Option<String>,
+    /// Parameter values by name (kept in the file's order); empty (`parameters:` with
+    /// nothing under it) is the same as absent.
+    #[serde(default)]
+    pub parameters: Option<serde_yaml::Mapping>,
+    /// Initial conditions by state name.
+    #[serde(default)]
+    pub initial: Option<serde_yaml::Mapping>,
+    /// The time span.
+    #[serde(default)]
+    pub time: Option<TimeSpec>,
+    /// The solver and its settings.
+    #[serde(default)]
+    pub solver: Option<SolverSpec>,
+    /// Sampling and recording.
+    #[serde(default)]
+    pub output: Option<OutputSpec>,
+    /// `all`, `none`, or a list of figure ids.
+    #[serde(default)]
+    pub plots: Option<Value>,
+    /// A sweep over one or two parameters.
+    #[serde(default)]
+    pub sweep: Option<SweepSpec>,
+}
+
+/// `time:` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// The start, s (default 0).
+    pub start: Option<f64>,
+    /// The end, s (default: the model's).
+    pub end: Option<f64>,
+}
+
+/// `solver:` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// The method's name.
+    pub method: Option<String>,
+    /// Relative tolerance (adaptive methods).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (adaptive methods).
+    pub atol: Option<f64>,
+    /// The step, s (fixed-step methods).
+    pub step: Option<f64>,
+    /// The largest step, s (adaptive methods).
+    pub max_step: Option<f64>,
+    /// The step budget.
+    pub max_steps: Option<usize>,
+    /// The wall-time limit, s (stiff methods).
+    pub max_wall_time: Option<f64>,
+}
+
+/// `output:` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Seconds between samples.
+    pub interval: Option<f64>,
+    /// Number of samples, both ends included.
+    pub count: Option<usize>,
+    /// States and outputs to record.
+    pub record: Option<Vec<String>>,
+}
+
+/// `sweep:` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// The swept parameters (one or two).
+    pub parameters: Vec<AxisSpec>,
+    /// The outputs whose peaks are reported.
+    pub peaks: Vec<String>,
+    /// The window of each run the peaks are taken over.
+    #[serde(default)]
+    pub window: Option<WindowSpec>,
+}
+
+/// One swept parameter.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSpec {
+    /// The parameter's name.
+    pub name: String,
+    /// Its values, or:
+    pub values: Option<Vec<f64>>,
+    /// the first value,
+    pub from: Option<f64>,
+    /// the last value,
+    pub to: Option<f64>,
+    /// and the number of values, evenly spaced.
+    pub steps: Option<usize>,
+}
+
+/// `sweep.window:`.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindowSpec {
+    /// Start, s (default: the middle of the time span).
+    pub from: Option<f64>,
+    /// End, s (default: the end of the time span).
+    pub to: Option<f64>,
+}
+
+/// A scenario file, read and parsed, with its text kept for pointing at errors.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The file's text and path.
+    pub source: Source,
+    /// What it says.
+    pub scenario: Scenario,
+}
+
+/// Reads and parses the scenario file at `path`.
+///
+/// # Errors
+///
+/// One [`Diagnostic`]: the file cannot be read, is not YAML, or does not fit the
+/// schema (wrong type, unknown key, missing `model`), at the place serde_yaml reports.
+pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        let mut d = Diagnostics::default();
+        d.push(
+            Origin::File {
+                path: path.to_path_buf(),
+                position: None,
+            },
+            format!("cannot read the scenario file: {e}"),
+        );
+        d
+    })?;
+    parse(path.to_path_buf(), text)
+}
+
+/// Parses `text` as the scenario file `path`.
+///
+/// # Errors
+///
+/// As [`load`].
+pub fn parse(path: PathBuf, text: String) -> Result<Loaded, Diagnostics> {
+    let source = Source { path, text };
+    match serde_yaml::from_str::<Scenario>(&source.text) {
+        Ok(scenario) => Ok(Loaded { source, scenario }),
+        Err(e) => {
+            let mut d = Diagnostics::default();
+            d.push(source.at_error(&e), yaml_message(&e));
+            Err(d)
+        }
+    }
+}
+
+/// The figure ids of a plots list, by the position where each occurs (for messages).
+pub(crate) fn plot_names(value: &Value) -> Option<BTreeMap<usize, String>> {
+    match value {
+        Value::Sequence(items) => items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v.as_str().map(|s| (i, s.to_owned())))
+            .collect(),
+        _ => None,
+    }
+}

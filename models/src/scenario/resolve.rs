@@ -1,0 +1,609 @@
+//! From a scenario (or a bare model name) and the command line's overrides to a
+//! validated [`Plan`], or every [`Diagnostic`](super::Diagnostic) found on the way.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use bgdsl_runtime::Solver;
+use serde_yaml::Mapping;
+
+use super::locate::KeyPath;
+use super::solver::solver;
+use super::sweep::sweep;
+use super::{plot_names, Diagnostics, Origin, Scenario, Source};
+use crate::catalog::{
+    self, format_value, parse_value, resolve_columns, set_parameter, Column, Entry, Plots,
+    ResultsKind, RunPlan, SweepPlan,
+};
+
+/// The smallest and largest relative tolerance a scenario may ask for.
+pub const RTOL_RANGE: [f64; 2] = [1e-14, 1e-1];
+
+/// The most samples a run may record.
+pub const MAX_SAMPLES: usize = 10_000_001;
+
+/// What the command line changes in a scenario (or in a model's defaults).
+#[derive(Clone, Debug, Default)]
+pub struct Overrides {
+    /// `NAME=VALUE` settings of parameters, in order (later ones win).
+    pub set: Vec<String>,
+    /// The solver's name.
+    pub solver: Option<String>,
+    /// Relative tolerance.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance.
+    pub atol: Option<f64>,
+    /// The end of the time span, s.
+    pub t_end: Option<f64>,
+    /// Draw no figures.
+    pub no_plots: bool,
+    /// The output directory.
+    pub out: Option<PathBuf>,
+}
+
+/// What to do: one run, or a sweep.
+#[derive(Clone, Debug)]
+pub enum Job {
+    /// One run.
+    Run(RunPlan),
+    /// A sweep of runs.
+    Sweep(SweepPlan),
+}
+
+/// A validated scenario: the model and the job.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The model.
+    pub entry: &'static Entry,
+    /// The run or the sweep.
+    pub job: Job,
+}
+
+/// Where a setting came from, for pointing at it.
+pub(super) struct Places<'a> {
+    pub(super) source: Option<&'a Source>,
+}
+
+impl Places<'_> {
+    pub(super) fn file(&self, path: &KeyPath) -> Origin {
+        match self.source {
+            Some(s) => s.at(path),
+            None => Origin::Nowhere,
+        }
+    }
+
+    pub(super) fn keys(&self, keys: &[&str]) -> Origin {
+        self.file(&KeyPath::keys(keys))
+    }
+}
+
+/// Validates `scenario` (read from `source`, or made from a model name when `source` is
+/// `None`) with the command line's `overrides`, into a plan whose run writes to
+/// `overrides.out` or else `out/<name>`.
+///
+/// # Errors
+///
+/// Every problem found (see the [module documentation](super)); nothing has been
+/// written.
+pub fn resolve(
+    source: Option<&Source>,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    name: &str,
+) -> Result<Plan, Diagnostics> {
+    let places = Places { source };
+    let mut d = Diagnostics::default();
+    let entry = match catalog::find(&scenario.model) {
+        Ok(entry) => entry,
+        Err(e) => {
+            let origin = match source {
+                Some(_) => places.keys(&["model"]),
+                None => Origin::Nowhere,
+            };
+            d.push(origin, e.to_string());
+            return Err(d);
+        }
+    };
+    let (params, origins) = parameters(entry, scenario, overrides, &places, &mut d);
+    let initial = initial_conditions(entry, scenario, &places, &mut d);
+    let span = time_span(entry, scenario, overrides, &places, &mut d);
+    let times = span.and_then(|span| sample_times(entry, scenario, span, &places, &mut d));
+    let solver = solver(entry, scenario, overrides, &places, &mut d);
+    let record = record(entry, scenario, &places, &mut d);
+    let plots = plots(entry, scenario, overrides, &places, &mut d);
+    let title = scenario
+        .description
+        .clone()
+        .unwrap_or_else(|| format!("{name}: {}", entry.description));
+    let base = |times: Vec<f64>, solver: Solver| RunPlan {
+        params: params.clone(),
+        initial: initial.clone(),
+        times,
+        solver,
+        record: record.clone(),
+        plots: plots.clone(),
+        out_dir: overrides
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(name)),
+        title: title.clone(),
+    };
+    let job = match (&scenario.sweep, times, solver) {
+        (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
+        (Some(spec), Some(times), Some(solver)) => {
+            let plan = base(times, solver);
+            match sweep(entry, spec, plan, &origins, &places, &mut d) {
+                Some(sweep) if d.is_empty() => Job::Sweep(sweep),
+                _ => return Err(d),
+            }
+        }
+        _ => return Err(d),
+    };
+    if d.is_empty() {
+        Ok(Plan { entry, job })
+    } else {
+        Err(d)
+    }
+}
+
+/// The parameters: defaults, then the scenario's, then `--set`; each checked by name
+/// and shape, then all of them physically. Also where each was set.
+fn parameters(
+    entry: &Entry,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> (Mapping, BTreeMap<String, Origin>) {
+    let mut params = entry.model.default_parameters();
+    let mut origins = BTreeMap::new();
+    let before = d.0.len();
+    for (key, value) in scenario.parameters.iter().flatten() {
+        let Some(name) = key.as_str() else {
+            d.push(
+                places.keys(&["parameters"]),
+                format!(
+                    "a parameter name must be a string, found {}",
+                    format_value(key)
+                ),
+            );
+            continue;
+        };
+        let origin = places.keys(&["parameters", name]);
+        match set_parameter(entry, &mut params, name, value.clone()) {
+            Ok(()) => {
+                origins.insert(name.to_owned(), origin);
+            }
+            Err(problem) => d.push(origin, problem.message),
+        }
+    }
+    for setting in &overrides.set {
+        let origin = Origin::Flag(format!("--set {setting}"));
+        let Some((name, text)) = setting.split_once('=') else {
+            d.push(
+                origin,
+                "expected NAME=VALUE, e.g. `--set m1=0.5` or `--set l1=[0.2,0.01,0.01]`",
+            );
+            continue;
+        };
+        let name = name.trim();
+        match parse_value(text) {
+            Err(e) => d.push(origin, format!("the value is not YAML: {e}")),
+            Ok(value) => match set_parameter(entry, &mut params, name, value) {
+                Ok(()) => {
+                    origins.insert(name.to_owned(), origin);
+                }
+                Err(problem) => d.push(origin, problem.message),
+            },
+        }
+    }
+    if d.0.len() == before {
+        for problem in entry.model.check(&params) {
+            let origin = problem
+                .keys
+                .iter()
+                .find_map(|k| origins.get(k).cloned())
+                .unwrap_or(Origin::Nowhere);
+            d.push(origin, problem.message);
+        }
+    }
+    (params, origins)
+}
+
+/// A list of names for a message: all of them when few, else a count and where to look.
+fn name_list(kind: &str, model: &str, names: &[&str], flag: &str) -> String {
+    if names.len() <= 20 {
+        format!("the {kind} of {model} are: {}", names.join(", "))
+    } else {
+        format!(
+            "{model} has {} {kind}; `models params {model} {flag}` lists them",
+            names.len()
+        )
+    }
+}
+
+/// The initial conditions, by state index.
+fn initial_conditions(
+    entry: &Entry,
+    scenario: &Scenario,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Vec<(usize, f64)> {
+    let states = entry.model.state_names();
+    let mut initial = Vec::new();
+    for (key, value) in scenario.initial.iter().flatten() {
+        let Some(name) = key.as_str() else {
+            d.push(
+                places.keys(&["initial"]),
+                format!("a state name must be a string, found {}", format_value(key)),
+            );
+            continue;
+        };
+        let origin = places.keys(&["initial", name]);
+        let Some(index) = states.iter().position(|s| *s == name) else {
+            d.push(
+                origin,
+                format!(
+                    "unknown state `{name}`; {}",
+                    name_list("states", entry.name, states, "--states")
+                ),
+            );
+            continue;
+        };
+        match value.as_f64() {
+            Some(v) if v.is_finite() => initial.push((index, v)),
+            _ => d.push(
+                origin,
+                format!(
+                    "the initial value of `{name}` must be a finite number, found {}",
+                    catalog::describe_value(value)
+                ),
+            ),
+        }
+    }
+    initial
+}
+
+/// The time span `[start, end]`, checked.
+fn time_span(
+    entry: &Entry,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<[f64; 2]> {
+    let time = scenario.time.clone().unwrap_or_default();
+    let start = time.start.unwrap_or(0.0);
+    let (end, end_origin) = match (overrides.t_end, time.end) {
+        (Some(t), _) => (t, Origin::Flag(format!("--t-end {t}"))),
+        (None, Some(t)) => (t, places.keys(&["time", "end"])),
+        (None, None) => (entry.t_end, Origin::Nowhere),
+    };
+    if !start.is_finite() {
+        d.push(
+            places.keys(&["time", "start"]),
+            format!("the start time must be a finite number of seconds, found {start}"),
+        );
+        return None;
+    }
+    if !(end.is_finite() && end > start) {
+        d.push(
+            end_origin,
+            format!(
+                "the time span must be positive: the end time must be a finite number of \
+                 seconds > the start time ({start} s), found {end}"
+            ),
+        );
+        return None;
+    }
+    Some([start, end])
+}
+
+/// The sample times: every `interval` from the start (exactly `start + k / rate` when
+/// the interval is `1 / rate` for a whole `rate`, so 1 ms gives `k / 1000`), plus the
+/// end if it is not on that grid; or `count` evenly spaced.
+fn sample_times(
+    entry: &Entry,
+    scenario: &Scenario,
+    [start, end]: [f64; 2],
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<Vec<f64>> {
+    let output = scenario.output.clone().unwrap_or_default();
+    let span = end - start;
+    match (output.interval, output.count) {
+        (Some(_), Some(_)) => {
+            d.push(
+                places.keys(&["output", "count"]),
+                "give either `interval` or `count`, not both",
+            );
+            None
+        }
+        (_, Some(count)) => {
+            if !(2..=MAX_SAMPLES).contains(&count) {
+                d.push(
+                    places.keys(&["output", "count"]),
+                    format!("the number of samples must be in [2, {MAX_SAMPLES}], found {count}"),
+                );
+                return None;
+            }
+            Some(bgdsl_runtime::sample_times_uniform(start, end, count))
+        }
+        (interval, None) => {
+            let origin = places.keys(&["output", "interval"]);
+            let interval = interval.unwrap_or(entry.interval);
+            if !(interval.is_finite() && interval > 0.0) {
+                d.push(
+                    origin,
+                    format!(
+                        "the sampling interval must be a number of seconds > 0, found {interval}"
+                    ),
+                );
+                return None;
+            }
+            let steps = (span / interval * (1.0 + 1e-12)).floor();
+            if steps + 2.0 > MAX_SAMPLES as f64 {
+                d.push(
+                    origin,
+                    format!(
+                        "a sampling interval of {interval} s over {span} s gives more than \
+                         {MAX_SAMPLES} samples; choose a larger interval"
+                    ),
+                );
+                return None;
+            }
+            let rate = 1.0 / interval;
+            let whole_rate = (rate.round() - rate).abs() <= 1e-9 * rate && rate.round() >= 1.0;
+            let at = |k: usize| {
+                if whole_rate {
+                    start + k as f64 / rate.round()
+                } else {
+                    start + k as f64 * interval
+                }
+            };
+            let mut times: Vec<f64> = (0..=steps as usize).map(at).filter(|&t| t <= end).collect();
+            if times.last().is_some_and(|&t| end - t > 1e-9 * interval) {
+                times.push(end);
+            }
+            Some(times)
+        }
+    }
+}
+
+/// The names a model's outputs can be asked for by: each output, with the components
+/// of a vector collapsed to its name (`Tc` for `Tc_x`, `Tc_y`, `Tc_z`).
+fn output_groups(entry: &Entry) -> Vec<String> {
+    let mut groups: Vec<String> = Vec::new();
+    for name in entry.model.output_names() {
+        let group = match name.rsplit_once('_') {
+            Some((g, c))
+                if matches!(c, "x" | "y" | "z")
+                    || (c.len() == 2 && c.chars().all(|ch| ch.is_ascii_digit())) =>
+            {
+                g
+            }
+            _ => name,
+        };
+        if groups.last().map(String::as_str) != Some(group) {
+            groups.push(group.to_owned());
+        }
+    }
+    groups
+}
+
+/// A state or output by name, or a diagnostic listing the outputs.
+pub(super) fn column(
+    entry: &Entry,
+    name: &str,
+    origin: Origin,
+    d: &mut Diagnostics,
+) -> Option<Vec<(String, Column)>> {
+    let found = resolve_columns(entry.model, name);
+    if found.is_none() {
+        let groups = output_groups(entry);
+        d.push(
+            origin,
+            format!(
+                "unknown state or output `{name}`; the outputs of {} are: {} (a vector's \
+                 name stands for its components; `models params {} --states` lists the \
+                 states)",
+                entry.name,
+                groups.join(", "),
+                entry.name
+            ),
+        );
+    }
+    found
+}
+
+/// `output.record`, resolved.
+fn record(
+    entry: &Entry,
+    scenario: &Scenario,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<Vec<(String, Column)>> {
+    let names = scenario.output.as_ref()?.record.as_ref()?;
+    let path = KeyPath::keys(&["output", "record"]);
+    if names.is_empty() {
+        d.push(places.file(&path), "`record` lists no state or output");
+        return None;
+    }
+    let mut columns = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        if let Some(found) = column(entry, name, places.file(&path.index(i)), d) {
+            columns.extend(found);
+        }
+    }
+    Some(columns)
+}
+
+/// `plots`, checked against the figure ids (quick return) or the outputs.
+fn plots(
+    entry: &Entry,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Plots {
+    if overrides.no_plots {
+        return Plots::None;
+    }
+    let Some(value) = &scenario.plots else {
+        return Plots::All;
+    };
+    let origin = places.keys(&["plots"]);
+    match value.as_str() {
+        Some("all") => return Plots::All,
+        Some("none") => return Plots::None,
+        _ => {}
+    }
+    let valid: Vec<String> = match entry.results {
+        ResultsKind::QuickReturn => catalog::figure_ids()
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect(),
+        ResultsKind::Trajectory => entry
+            .model
+            .output_names()
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect(),
+    };
+    let Some(names) = plot_names(value) else {
+        d.push(
+            origin,
+            format!(
+                "`plots` must be `all`, `none` or a list of figure ids, found {}",
+                catalog::describe_value(value)
+            ),
+        );
+        return Plots::None;
+    };
+    for (i, name) in &names {
+        if !valid.contains(name) {
+            d.push(
+                places.file(&KeyPath::keys(&["plots"]).index(*i)),
+                format!(
+                    "unknown figure `{name}`; the figures of {} are: {}",
+                    entry.name,
+                    valid.join(", ")
+                ),
+            );
+        }
+    }
+    Plots::Only(names.into_values().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::catalog::flagship_solver;
+    use crate::quick_return::results::sample_times as spec_times;
+    use crate::scenario::parse;
+    use serde_yaml::Value;
+
+    fn plan_of(text: &str, overrides: &Overrides) -> Result<Plan, Diagnostics> {
+        let loaded = parse("s.yaml".into(), text.to_owned())?;
+        resolve(Some(&loaded.source), &loaded.scenario, overrides, "s")
+    }
+
+    fn run_plan(plan: Plan) -> RunPlan {
+        match plan.job {
+            Job::Run(run) => run,
+            Job::Sweep(_) => panic!("not a run"),
+        }
+    }
+
+    #[test]
+    fn a_bare_model_runs_the_spec_flagship() {
+        let scenario = Scenario {
+            model: "quick_return".into(),
+            ..Scenario::default()
+        };
+        let plan =
+            run_plan(resolve(None, &scenario, &Overrides::default(), "quick_return").unwrap());
+        assert_eq!(plan.times, spec_times(), "exactly k / 1000");
+        assert_eq!(plan.solver, flagship_solver());
+        assert_eq!(plan.out_dir, PathBuf::from("out/quick_return"));
+        assert_eq!(plan.plots, Plots::All);
+        assert!(plan.record.is_none() && plan.initial.is_empty());
+    }
+
+    #[test]
+    fn samples_end_on_the_end_time() {
+        let plan = run_plan(
+            plan_of(
+                "model: oscillator\ntime: {end: 1.0}\noutput: {interval: 0.3}\n",
+                &Overrides::default(),
+            )
+            .unwrap(),
+        );
+        assert_eq!(plan.times, [0.0, 0.3, 0.6, 0.8999999999999999, 1.0]);
+        let plan = run_plan(
+            plan_of(
+                "model: oscillator\ntime: {start: 1, end: 2}\noutput: {count: 3}\n",
+                &Overrides::default(),
+            )
+            .unwrap(),
+        );
+        assert_eq!(plan.times, [1.0, 1.5, 2.0]);
+    }
+
+    #[test]
+    fn flags_override_the_file() {
+        let overrides = Overrides {
+            set: vec!["m=2".into(), "m=3".into()],
+            solver: Some("dopri5".into()),
+            rtol: Some(1e-9),
+            t_end: Some(2.0),
+            no_plots: true,
+            ..Overrides::default()
+        };
+        let plan = run_plan(
+            plan_of(
+                "model: oscillator\nparameters:\n  m: 5\n  k: 50\nsolver:\n  rtol: 1e-3\n  atol: 1e-12\n",
+                &overrides,
+            )
+            .unwrap(),
+        );
+        assert_eq!(plan.params.get("m").and_then(Value::as_f64), Some(3.0));
+        assert_eq!(plan.params.get("k").and_then(Value::as_f64), Some(50.0));
+        let Solver::DormandPrince(o) = plan.solver else {
+            panic!()
+        };
+        assert_eq!((o.rtol, o.atol), (1e-9, 1e-12));
+        assert_eq!(*plan.times.last().unwrap(), 2.0);
+        assert_eq!(plan.plots, Plots::None);
+    }
+
+    #[test]
+    fn reports_every_independent_error_at_its_line() {
+        let text = "model: oscillator\nparameters:\n  m: 0\ninitial:\n  spring.x: 1\nsolver:\n  \
+                    method: rk4\n  rtol: 1e-6\noutput:\n  record: [x, y]\n";
+        let d = plan_of(text, &Overrides::default()).unwrap_err();
+        let lines: Vec<String> = d.0.iter().map(ToString::to_string).collect();
+        assert_eq!(lines.len(), 4, "{lines:#?}");
+        assert!(lines[0].starts_with("s.yaml:3:3: parameter `m` (mass, kg) must be > 0"));
+        assert!(lines[1].starts_with(
+            "s.yaml:5:3: unknown state `spring.x`; the states of oscillator are: mass.p, spring.q"
+        ));
+        assert!(
+            lines[2].starts_with("s.yaml:8:3: rtol does not apply to the fixed-step solver rk4")
+        );
+        assert!(
+            lines[3].starts_with("s.yaml:10:3: unknown state or output `y`"),
+            "{}",
+            lines[3]
+        );
+    }
+
+    #[test]
+    fn an_empty_parameters_block_is_allowed() {
+        assert!(plan_of(
+            "model: oscillator\nparameters:\n  # none\n",
+            &Overrides::default()
+        )
+        .is_ok());
+    }
+}

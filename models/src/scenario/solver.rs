@@ -1,0 +1,184 @@
+//! The solver of a scenario: the model's, or the one named, with tolerances, step and
+//! limits set and checked.
+
+use std::time::Duration;
+
+use bgdsl_runtime::{Solver, SolverError};
+use serde_yaml::Value;
+
+use super::resolve::{Overrides, Places, RTOL_RANGE};
+use super::{Diagnostics, Origin, Scenario};
+use crate::catalog::{format_value, Entry};
+
+/// The solver: the model's, or the one named, with the tolerances and limits set.
+pub(super) fn solver(
+    entry: &Entry,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<Solver> {
+    let spec = scenario.solver.clone().unwrap_or_default();
+    let key = |k: &str| places.keys(&["solver", k]);
+    let (named, name_origin) = match (&overrides.solver, &spec.method) {
+        (Some(n), _) => (Some(n.clone()), Origin::Flag(format!("--solver {n}"))),
+        (None, Some(n)) => (Some(n.clone()), key("method")),
+        (None, None) => (None, Origin::Nowhere),
+    };
+    let mut solver = match named {
+        Some(name) => match Solver::from_name(&name) {
+            Ok(s) if s.name() == (entry.solver)().name() => (entry.solver)(),
+            Ok(s) => s,
+            Err(e) => {
+                d.push(name_origin, e.to_string());
+                return None;
+            }
+        },
+        None => (entry.solver)(),
+    };
+    let before = d.0.len();
+    let setting = |flag: Option<f64>, file: Option<f64>, name: &str| match (flag, file) {
+        (Some(v), _) => Some((v, Origin::Flag(format!("--{name} {v}")))),
+        (None, Some(v)) => Some((v, key(name))),
+        (None, None) => None,
+    };
+    let method = solver.name();
+    let fixed = matches!(solver, Solver::Rk4(_) | Solver::DormandPrinceFixed(_));
+    if let Some((rtol, origin)) = setting(overrides.rtol, spec.rtol, "rtol") {
+        if fixed {
+            d.push(
+                origin,
+                format!("rtol does not apply to the fixed-step solver {method}; set `step`"),
+            );
+        } else if !(RTOL_RANGE[0]..=RTOL_RANGE[1]).contains(&rtol) {
+            d.push(
+                origin,
+                format!(
+                    "rtol must be in [1e-14, 0.1], found {}",
+                    catalog_number(rtol)
+                ),
+            );
+        } else {
+            set_tolerance(&mut solver, Some(rtol), None);
+        }
+    }
+    if let Some((atol, origin)) = setting(overrides.atol, spec.atol, "atol") {
+        if fixed {
+            d.push(
+                origin,
+                format!("atol does not apply to the fixed-step solver {method}; set `step`"),
+            );
+        } else if !(atol.is_finite() && atol > 0.0) {
+            d.push(
+                origin,
+                format!(
+                    "atol must be a finite number > 0, found {}",
+                    catalog_number(atol)
+                ),
+            );
+        } else {
+            set_tolerance(&mut solver, None, Some(atol));
+        }
+    }
+    if let Some(step) = spec.step {
+        match &mut solver {
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
+                if step.is_finite() && step > 0.0 {
+                    o.step = step;
+                } else {
+                    d.push(key("step"), format!("the step must be a number of seconds > 0, found {step}"));
+                }
+            }
+            _ => d.push(
+                key("step"),
+                format!("`step` applies only to the fixed-step solvers rk4 and dopri5-fixed, not {method}"),
+            ),
+        }
+    }
+    if let Some(max_step) = spec.max_step {
+        if max_step.is_nan() || max_step <= 0.0 {
+            d.push(
+                key("max_step"),
+                format!("max_step must be a number of seconds > 0, found {max_step}"),
+            );
+        } else {
+            match &mut solver {
+                Solver::DormandPrince(o) => o.max_step = max_step,
+                Solver::Radau5(o) => o.max_step = max_step,
+                Solver::Rodas4(o) => o.max_step = max_step,
+                _ => d.push(
+                    key("max_step"),
+                    format!(
+                        "`max_step` applies only to the adaptive solvers, not {method}; set `step`"
+                    ),
+                ),
+            }
+        }
+    }
+    if let Some(max_steps) = spec.max_steps {
+        if max_steps == 0 {
+            d.push(
+                key("max_steps"),
+                "max_steps must be an integer > 0, found 0",
+            );
+        } else {
+            match &mut solver {
+                Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.max_steps = max_steps,
+                Solver::DormandPrince(o) => o.max_steps = max_steps,
+                Solver::Radau5(o) => o.max_steps = max_steps,
+                Solver::Rodas4(o) => o.max_steps = max_steps,
+                _ => {}
+            }
+        }
+    }
+    if let Some(limit) = spec.max_wall_time {
+        if !(limit.is_finite() && limit > 0.0) {
+            d.push(
+                key("max_wall_time"),
+                format!("max_wall_time must be a number of seconds > 0, found {limit}"),
+            );
+        } else {
+            let limit = Some(Duration::from_secs_f64(limit));
+            match &mut solver {
+                Solver::Radau5(o) => o.max_wall_time = limit,
+                Solver::Rodas4(o) => o.max_wall_time = limit,
+                _ => d.push(
+                    key("max_wall_time"),
+                    format!("max_wall_time applies only to the stiff solvers radau5 and rodas4, not {method}"),
+                ),
+            }
+        }
+    }
+    if d.0.len() > before {
+        return None;
+    }
+    if let Err(e) = solver.validate() {
+        let origin = match &e {
+            SolverError::InvalidOptions { option, .. } => key(option),
+            _ => Origin::Nowhere,
+        };
+        d.push(origin, e.to_string());
+        return None;
+    }
+    Some(solver)
+}
+
+fn catalog_number(v: f64) -> String {
+    format_value(&Value::from(v))
+}
+
+/// Sets the tolerances of an adaptive solver.
+fn set_tolerance(solver: &mut Solver, rtol: Option<f64>, atol: Option<f64>) {
+    let (r, a) = match solver {
+        Solver::DormandPrince(o) => (&mut o.rtol, &mut o.atol),
+        Solver::Radau5(o) => (&mut o.rtol, &mut o.atol),
+        Solver::Rodas4(o) => (&mut o.rtol, &mut o.atol),
+        _ => return,
+    };
+    if let Some(rtol) = rtol {
+        *r = rtol;
+    }
+    if let Some(atol) = atol {
+        *a = atol;
+    }
+}

@@ -1,0 +1,195 @@
+//! The sweep of a scenario: its axes, metrics and window, with every point's
+//! parameters checked.
+
+use std::collections::BTreeMap;
+
+use super::locate::KeyPath;
+use super::resolve::{column, Places};
+use super::{Diagnostics, Origin, SweepSpec};
+use crate::catalog::{quick_return_unit, Axis, Entry, Metric, ResultsKind, RunPlan, SweepPlan};
+
+/// The sweep: axes, metrics and window, with every point's parameters checked.
+pub(super) fn sweep(
+    entry: &Entry,
+    spec: &SweepSpec,
+    base: RunPlan,
+    origins: &BTreeMap<String, Origin>,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<SweepPlan> {
+    let root = KeyPath::keys(&["sweep"]);
+    let before = d.0.len();
+    if spec.parameters.is_empty() || spec.parameters.len() > 2 {
+        d.push(
+            places.file(&root.key("parameters")),
+            format!(
+                "a sweep is over one or two parameters, found {}",
+                spec.parameters.len()
+            ),
+        );
+    }
+    let mut axes = Vec::new();
+    for (i, axis) in spec.parameters.iter().enumerate() {
+        let at = root.key("parameters").index(i);
+        let info = entry
+            .model
+            .parameters()
+            .iter()
+            .find(|p| p.name == axis.name);
+        match info {
+            None => {
+                let names: Vec<&str> = entry.model.parameters().iter().map(|p| p.name).collect();
+                d.push(
+                    places.file(&at.key("name")),
+                    format!(
+                        "unknown parameter `{}`; the parameters of {} are: {}",
+                        axis.name,
+                        entry.name,
+                        names.join(", ")
+                    ),
+                );
+                continue;
+            }
+            Some(p) if p.len != 1 => {
+                d.push(
+                    places.file(&at.key("name")),
+                    format!(
+                        "only scalar parameters can be swept; `{}` has {} numbers",
+                        axis.name, p.len
+                    ),
+                );
+                continue;
+            }
+            Some(_) => {}
+        }
+        if axes.iter().any(|a: &Axis| a.name == axis.name) {
+            d.push(
+                places.file(&at.key("name")),
+                format!("`{}` is swept twice", axis.name),
+            );
+            continue;
+        }
+        let values = match (&axis.values, axis.from, axis.to, axis.steps) {
+            (Some(values), None, None, None) => {
+                if values.is_empty() {
+                    d.push(places.file(&at.key("values")), "`values` lists no value");
+                    continue;
+                }
+                values.clone()
+            }
+            (None, Some(from), Some(to), Some(steps)) => {
+                if steps < 2 {
+                    d.push(
+                        places.file(&at.key("steps")),
+                        format!("`steps` (the number of values, ends included) must be >= 2, found {steps}"),
+                    );
+                    continue;
+                }
+                if steps > 10_000 {
+                    d.push(
+                        places.file(&at.key("steps")),
+                        format!("`steps` must be at most 10000, found {steps}"),
+                    );
+                    continue;
+                }
+                (0..steps)
+                    .map(|k| from + (to - from) * k as f64 / (steps - 1) as f64)
+                    .collect()
+            }
+            _ => {
+                d.push(
+                    places.file(&at),
+                    "give either `values: [...]` or all of `from`, `to` and `steps`",
+                );
+                continue;
+            }
+        };
+        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+            d.push(
+                places.file(&at),
+                format!("every value must be finite, found {bad}"),
+            );
+            continue;
+        }
+        let unit = info.map(|p| p.unit.to_owned()).unwrap_or_default();
+        axes.push(Axis {
+            name: axis.name.clone(),
+            unit,
+            values,
+        });
+    }
+    let mut metrics = Vec::new();
+    if spec.peaks.is_empty() {
+        d.push(places.file(&root.key("peaks")), "`peaks` lists no output");
+    }
+    for (i, name) in spec.peaks.iter().enumerate() {
+        let origin = places.file(&root.key("peaks").index(i));
+        if let Some(columns) = column(entry, name, origin, d) {
+            metrics.push(Metric {
+                name: name.clone(),
+                columns: columns.into_iter().map(|(_, c)| c).collect(),
+                unit: match entry.results {
+                    ResultsKind::QuickReturn => quick_return_unit(name),
+                    ResultsKind::Trajectory => None,
+                },
+            });
+        }
+    }
+    let [t0, t_end] = base.span();
+    let window = spec.window.clone().unwrap_or_default();
+    let window = [
+        window.from.unwrap_or(0.5 * (t0 + t_end)),
+        window.to.unwrap_or(t_end),
+    ];
+    if !(window[0] >= t0 && window[0] < window[1] && window[1] <= t_end) {
+        d.push(
+            places.file(&root.key("window")),
+            format!(
+                "the window [{}, {}] s must be a non-empty part of the time span [{t0}, {t_end}] s",
+                window[0], window[1]
+            ),
+        );
+    }
+    if d.0.len() > before {
+        return None;
+    }
+    let plan = SweepPlan {
+        base,
+        axes,
+        metrics,
+        window,
+    };
+    // Every point must make physical sense; report the first that does not.
+    for point in plan.points() {
+        let problems = entry.model.check(&plan.plan_at(&point).params);
+        if problems.is_empty() {
+            continue;
+        }
+        for problem in problems {
+            let axis = plan
+                .axes
+                .iter()
+                .position(|a| problem.keys.contains(&a.name));
+            let origin = match axis {
+                Some(i) => places.file(&root.key("parameters").index(i)),
+                None => problem
+                    .keys
+                    .iter()
+                    .find_map(|k| origins.get(k).cloned())
+                    .unwrap_or(Origin::Nowhere),
+            };
+            let at: Vec<String> = plan
+                .axes
+                .iter()
+                .zip(&point)
+                .map(|(a, v)| format!("{} = {v}", a.name))
+                .collect();
+            d.push(
+                origin,
+                format!("at the sweep point {}: {}", at.join(", "), problem.message),
+            );
+        }
+        return None;
+    }
+    Some(plan)
+}
