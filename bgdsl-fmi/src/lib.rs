@@ -38,6 +38,7 @@
 use std::path::{Path, PathBuf};
 
 use bgdsl_fmi_core::{ModelDescription, ModelEntry};
+use models::dc_servo::DcServo;
 use models::quick_return::QuickReturn;
 use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -52,6 +53,7 @@ pub static MODELS: &[ModelEntry] = &[
     ModelEntry::new::<DcMotor>("dc_motor"),
     ModelEntry::new::<QuarterCar>("quarter_car"),
     ModelEntry::new::<Duffing>("duffing"),
+    ModelEntry::new::<DcServo>("dc_servo"),
 ];
 
 bgdsl_fmi_core::export_fmi2!(MODELS);

@@ -1,14 +1,15 @@
 //! The FMUs checked by FMPy (PyPI), an FMI importer written by others.
 //!
-//! The test writes the FMUs of the mass-spring-damper, the DC motor and the quick
-//! return mechanism with this crate's shared library (the `cdylib` that `cargo test`
+//! The test writes the FMUs of the mass-spring-damper, the DC motor, the DC servo (the
+//! motor with its voltage and load torque as FMU inputs) and the quick return
+//! mechanism with this crate's shared library (the `cdylib` that `cargo test`
 //! builds beside the test, `target/<profile>/libbgdsl_fmi.so`; `BGDSL_FMI_LIBRARY`
 //! overrides), then runs `tests/fmpy_check.py`, which
 //!
 //! 1. validates every FMU with `fmpy.validation.validate_fmu` (no problem allowed);
-//! 2. simulates them with one parameter tuned through `start_values` (so through
-//!    `fmi2SetReal` before initialisation): the oscillator and the DC motor as Model
-//!    Exchange (FMPy's CVode integrates) and as Co-Simulation (our Radau5 integrates
+//! 2. simulates them with parameters (and the servo's inputs) set through
+//!    `start_values` (so through `fmi2SetReal` before initialisation): the oscillator,
+//!    the DC motor and the servo as Model Exchange (FMPy's CVode integrates) and as Co-Simulation (our Radau5 integrates
 //!    inside the FMU), the quick return as Co-Simulation, every 1 ms;
 //! 3. calls one FMU wrongly through FMPy's own bindings and checks each call fails
 //!    with fmi2Error and a logged reason.
@@ -38,6 +39,7 @@ use std::process::Command;
 
 use bgdsl_fmi_core::{Exportable, ModelDescription, Role};
 use bgdsl_runtime::{Radau5Options, Simulation, Solver, Stepper};
+use models::dc_servo::DcServo;
 use models::quick_return::QuickReturn;
 use models::{DcMotor, Oscillator};
 
@@ -113,6 +115,32 @@ const RUNS: &[Run] = &[
         interval: 1e-3,
         rtol: None,
         start_values: &[("voltage", 6.0), ("load_torque", 0.05)],
+    },
+    // Inputs (the supply voltage, the load torque) set through the FMU as an importer
+    // sets them, with a parameter tuned beside them.
+    Run {
+        model: "dc_servo",
+        fmi_type: "ModelExchange",
+        stop_time: 0.5,
+        interval: 1e-3,
+        rtol: Some(1e-10),
+        start_values: &[
+            ("voltage", 12.0),
+            ("load_torque", 0.05),
+            ("gear_ratio", 8.0),
+        ],
+    },
+    Run {
+        model: "dc_servo",
+        fmi_type: "CoSimulation",
+        stop_time: 0.5,
+        interval: 1e-3,
+        rtol: None,
+        start_values: &[
+            ("voltage", 12.0),
+            ("load_torque", 0.05),
+            ("gear_ratio", 8.0),
+        ],
     },
     Run {
         model: "quick_return",
@@ -205,19 +233,23 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
 }
 
 /// Model `M` with `start_values` set as the FMU sets them: by FMI variable name,
-/// through the flat parameter values.
+/// through the flat parameter and input values.
 fn tuned<M: Exportable>(start_values: &[(&str, f64)]) -> M {
     let description = ModelDescription::of::<M>();
     let mut model = M::default();
     let mut p = vec![0.0; M::N_PARAMETER_VALUES];
     model.parameter_values(&mut p);
+    let mut u = vec![0.0; M::INPUTS.len()];
+    model.input_values(&mut u);
     for (name, value) in start_values {
         match description.variables.find(name).map(|v| v.role) {
             Some(Role::Parameter(i)) => p[i] = *value,
-            other => panic!("{name} is not a parameter ({other:?})"),
+            Some(Role::Input(i)) => u[i] = *value,
+            other => panic!("{name} is neither a parameter nor an input ({other:?})"),
         }
     }
     model.set_parameter_values(&p);
+    model.set_input_values(&u);
     model
 }
 
@@ -387,7 +419,7 @@ fn fmpy_validates_and_simulates_the_fmus_like_the_project_does() {
     let dir =
         PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("fmpy-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let fmus: Vec<(&str, PathBuf)> = ["oscillator", "dc_motor", "quick_return"]
+    let fmus: Vec<(&str, PathBuf)> = ["oscillator", "dc_motor", "dc_servo", "quick_return"]
         .into_iter()
         .map(|model| {
             let path = bgdsl_fmi::write_fmu(model, &library, &dir).unwrap();
@@ -420,6 +452,7 @@ fn fmpy_validates_and_simulates_the_fmus_like_the_project_does() {
         match run.model {
             "oscillator" => compare::<Oscillator>(run, &dir, &mut report, &mut failures),
             "dc_motor" => compare::<DcMotor>(run, &dir, &mut report, &mut failures),
+            "dc_servo" => compare::<DcServo>(run, &dir, &mut report, &mut failures),
             "quick_return" => compare::<QuickReturn>(run, &dir, &mut report, &mut failures),
             other => unreachable!("no comparison for {other}"),
         }

@@ -10,6 +10,7 @@
 //! | `dc_motor` | [`DcMotor`] |
 //! | `quarter_car` | [`QuarterCar`] |
 //! | `duffing` | [`Duffing`] |
+//! | `dc_servo` | [`DcServo`] |
 //!
 //! Parameters are handled as YAML values ([`serde_yaml::Mapping`]): the defaults are the
 //! model's `Params::default()` serialised, an override replaces one entry (after a check
@@ -93,6 +94,7 @@ pub use physics::Catalogued;
 pub use run::{Observer, Outcome, Plots, RunError, RunPlan, Silent};
 pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
+use crate::dc_servo::DcServo;
 use crate::quick_return::QuickReturn;
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -160,6 +162,8 @@ pub trait CatalogModel: Sync {
     fn initial_state(&self, params: &Mapping) -> Result<Vec<f64>, RunError>;
     /// The causal bond graph the model was generated from.
     fn causal_graph(&self) -> Option<&'static CausalGraph>;
+    /// The inputs a host sets between steps (none for most models).
+    fn inputs(&self) -> &'static [bgdsl_runtime::InputInfo];
     /// What an FMI 2.0 FMU of the model declares (`models fmu`).
     fn fmu_description(&self) -> bgdsl_fmi_core::ModelDescription;
     /// Runs `plan` and writes its files (see [`RunPlan`] and [`Outcome`]).
@@ -273,6 +277,16 @@ pub static MODELS: &[Entry] = &[
         interval: 1e-2,
         solver: stiff_default,
     },
+    Entry {
+        name: "dc_servo",
+        description: "the DC motor with its voltage and load torque as inputs, for a host's \
+                      controller (run alone: the inputs stay at their defaults)",
+        model: &Adapter::<DcServo>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 1.0,
+        interval: 1e-3,
+        solver: stiff_default,
+    },
 ];
 
 /// A model name the catalogue does not have.
@@ -341,7 +355,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown model `crank`; the models are: quick_return, oscillator, rlc, dc_motor, \
-             quarter_car, duffing"
+             quarter_car, duffing, dc_servo"
         );
     }
 }

@@ -46,7 +46,8 @@ fn list_names_every_model_on_one_line() {
             "rlc",
             "dc_motor",
             "quarter_car",
-            "duffing"
+            "duffing",
+            "dc_servo"
         ]
     );
     assert!(out.stdout.lines().all(|l| l.split_whitespace().count() > 3));
@@ -88,7 +89,7 @@ fn params_shows_defaults_units_and_docs() {
     assert_eq!(
         unknown.stderr.trim(),
         "error: unknown model `crank`; the models are: quick_return, oscillator, rlc, \
-         dc_motor, quarter_car, duffing"
+         dc_motor, quarter_car, duffing, dc_servo"
     );
 }
 
@@ -675,4 +676,21 @@ fn fmu_of_an_unknown_model_lists_the_known_ones() {
     let out = run(&["fmu", "pendulum"]);
     assert_eq!(out.code, Some(2), "{out:?}");
     assert!(out.stderr.contains("quick_return"), "{}", out.stderr);
+}
+
+#[test]
+fn params_lists_a_models_inputs() {
+    let out = run(&["params", "dc_servo"]);
+    assert_success(&out);
+    let (_, inputs) = out
+        .stdout
+        .split_once("\ninputs")
+        .expect("an inputs section");
+    let voltage = inputs
+        .lines()
+        .find(|l| l.trim_start().starts_with("voltage "))
+        .expect("a line for voltage");
+    let words: Vec<&str> = voltage.split_whitespace().collect();
+    assert_eq!(&words[..2], ["voltage", "V"], "{voltage}");
+    assert!(!run(&["params", "oscillator"]).stdout.contains("\ninputs"));
 }

@@ -13,6 +13,10 @@ impl<M: Catalogued> CatalogModel for Adapter<M>
 where
     M::Params: Serialize + DeserializeOwned,
 {
+    fn inputs(&self) -> &'static [bgdsl_runtime::InputInfo] {
+        <M as bgdsl_runtime::WithInputs>::INPUTS
+    }
+
     fn fmu_description(&self) -> bgdsl_fmi_core::ModelDescription {
         bgdsl_fmi_core::ModelDescription::of::<M>()
     }

@@ -4,6 +4,7 @@
 use bgdsl_runtime::multibond::box_inertia;
 
 use super::Checks;
+use crate::dc_servo::DcServo;
 use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -147,6 +148,24 @@ impl Catalogued for SeriesRlc {
         checks.non_negative("resistance", p.resistance);
         checks.positive("inductance", p.inductance);
         checks.positive("capacitance", p.capacitance);
+    }
+}
+
+impl Catalogued for DcServo {
+    fn from_params(params: Self::Params) -> Self {
+        DcServo::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("resistance", p.resistance);
+        checks.positive("inductance", p.inductance);
+        checks.positive("rotor_inertia", p.rotor_inertia);
+        checks.non_negative("rotor_friction", p.rotor_friction);
+        checks.positive("gear_ratio", p.gear_ratio);
+        checks.non_negative("shaft_stiffness", p.shaft_stiffness);
+        checks.non_negative("shaft_damping", p.shaft_damping);
+        checks.positive("load_inertia", p.load_inertia);
+        checks.non_negative("load_friction", p.load_friction);
     }
 }
 

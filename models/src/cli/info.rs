@@ -65,6 +65,15 @@ pub(super) fn params(name: &str, states: bool, outputs: bool) -> Result<(), Fail
         text.push_str(line.trim_end());
         text.push('\n');
     }
+    if !model.inputs().is_empty() {
+        text.push_str("\ninputs (set by a host between steps: a Stepper, an FMU's importer)\n");
+        for input in model.inputs() {
+            let doc = input.doc.split_whitespace().collect::<Vec<_>>().join(" ");
+            let line = format!("  {:<w0$}  {:<w2$}  {doc}", input.name, input.unit);
+            text.push_str(line.trim_end());
+            text.push('\n');
+        }
+    }
     if states {
         let x0 = model
             .initial_state(&defaults)
