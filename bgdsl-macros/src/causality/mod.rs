@@ -599,6 +599,26 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                     "the junction structure fixes this variable twice: check the bonds around it",
                 ),
             };
+            if first == second {
+                // The requirement clashed with its own consequences, met by two routes.
+                let split = meeting.is_some_and(|j| {
+                    graph.dissolved.iter().any(|d| d.components.contains(&j))
+                });
+                let why = if split {
+                    "its consequences arrive there by two routes that disagree: the junctions a \
+                     splitter takes apart get their components' causalities one by one, but an \
+                     element acting on the whole vector (a C, I or R[n] with one law, a source, a \
+                     TF) takes one causality for all its components; write that element as scalar \
+                     elements behind a splitter"
+                } else {
+                    "its consequences come back around a loop of junctions, TFs and GYs with the \
+                     opposite causality; break the loop with a storage or a resistive element"
+                };
+                return syn::Error::new(
+                    span(*second),
+                    format!("causal conflict{place}: {} cannot impose its {what}: {why}", name(*second)),
+                );
+            }
             let mut e = syn::Error::new(
                 span(*second),
                 format!(
