@@ -47,11 +47,9 @@ pub struct Graph {
 pub struct Dissolved {
     /// The element, now without bonds.
     pub element: ElementId,
-    /// Its components, in order.
+    /// Its components, in order: a law that reads the junction's common variable gets
+    /// theirs, assembled into a vector.
     pub components: Vec<ElementId>,
-    /// A multibond that still carries the junction's whole common variable (every bond
-    /// at a junction does), for laws that read it; none if all its bonds were split.
-    pub representative: Option<BondId>,
 }
 
 /// A kinematic state: integrated, but not the storage of an element.

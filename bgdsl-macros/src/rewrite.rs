@@ -60,8 +60,9 @@ pub fn element_signal(
     member: &str,
 ) -> Result<Term, String> {
     let el = graph.element(element);
-    if let Some(dissolved) = graph.dissolved(element) {
-        return dissolved_signal(graph, el.kind, dissolved, member);
+    if graph.dissolved(element).is_some() {
+        // Its common variable is assembled by the rewriter; it has nothing else.
+        return Err(no_such_signal(&graph.describe(element), el.kind, member));
     }
     let bond = |i: usize| el.bonds[i];
     // One-ports: power positive into passive elements, out of sources.
@@ -94,22 +95,6 @@ pub fn element_signal(
         _ => None,
     };
     term.ok_or_else(|| no_such_signal(&graph.describe(element), el.kind, member))
-}
-
-/// A junction's common variable after a splitter took it apart: any bond at a junction
-/// carries it whole, so the one kept as a multibond does.
-fn dissolved_signal(
-    graph: &Graph,
-    kind: ElementKind,
-    dissolved: &crate::ir::Dissolved,
-    member: &str,
-) -> Result<Term, String> {
-    let described = graph.describe(dissolved.element);
-    match (kind, member, dissolved.representative) {
-        (ElementKind::Zero, "e", Some(bond)) => Ok(Term::plus(Signal::Effort(bond))),
-        (ElementKind::One, "f", Some(bond)) => Ok(Term::plus(Signal::Flow(bond))),
-        _ => Err(no_such_signal(&described, kind, member)),
-    }
 }
 
 /// The message for `element.member` when the element has no such signal.
@@ -341,17 +326,14 @@ fn assemble_tokens(parts: &[Term], span: Span) -> proc_macro2::TokenStream {
 }
 
 impl Rewriter<'_, '_> {
-    /// The common variable of a junction a splitter took apart when no multibond at
-    /// it carries it whole: made of its scalar components' common variables.
+    /// The common variable of a junction a splitter took apart: made of its scalar
+    /// components' common variables.
     fn assembled(&mut self, base: &Ident, member: &Ident) -> Option<Vec<Term>> {
         let Some(Lookup::Element(id)) = self.lookup(base) else {
             return None;
         };
         let graph = self.scope.graph;
         let dissolved = graph.dissolved(id)?;
-        if dissolved.representative.is_some() {
-            return None;
-        }
         let kind = graph.element(id).kind;
         let signal: fn(crate::ir::BondId) -> Signal = match (kind, member.to_string().as_str()) {
             (ElementKind::Zero, "e") => Signal::Effort,

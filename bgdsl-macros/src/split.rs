@@ -56,7 +56,6 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
     let old_dims = std::mem::take(&mut graph.bond_dims);
     // The new bond each old bond became at its end outside the region.
     let mut outside_end: Vec<Option<BondId>> = vec![None; old_bonds.len()];
-    let mut representative: Vec<Option<BondId>> = vec![None; original_elements];
     for (index, bond) in old_bonds.into_iter().enumerate() {
         let n = old_dims[index];
         let component_at = |end: ElementId| match component_of_bond[index] {
@@ -106,7 +105,6 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
                 } else {
                     connect(graph, element_end, splitter, bond.label, n)
                 };
-                representative[region_end.0].get_or_insert(whole);
                 for &component in &components[region_end.0] {
                     if from_inside {
                         connect(graph, component, splitter, None, 1);
@@ -130,7 +128,6 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
         graph.dissolved.push(Dissolved {
             element: id,
             components: components[id.0].clone(),
-            representative: representative[id.0],
         });
     }
 }
