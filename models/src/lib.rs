@@ -12,6 +12,7 @@
 
 pub mod catalog;
 pub mod cli;
+pub mod control;
 pub mod dc_motor;
 pub mod dc_servo;
 pub mod duffing;

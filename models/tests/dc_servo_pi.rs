@@ -9,7 +9,8 @@
 
 use bgdsl_runtime::multibond::{SMatrix, SVector};
 use bgdsl_runtime::{Radau5Options, Solver};
-use models::dc_servo::{run_speed_loop, DcServo, DcServoParams, PiController, SPEED_LOOP};
+use models::control::PiController;
+use models::dc_servo::{run_speed_loop, DcServo, DcServoParams, SPEED_LOOP};
 
 /// `dx/dt = A x + B v + E τ_L` with `x = [λ, p_m, θ, p_l]` (flux linkage, rotor momentum,
 /// shaft twist, load momentum):

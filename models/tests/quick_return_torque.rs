@@ -18,8 +18,9 @@ fn a_torque_controller_holds_the_crank_at_5_rad_per_s() {
         run.speed_max
     );
     // The rigid mechanism at exactly 5 rad/s needs, on average over a turn (uniform in
-    // angle at constant speed), the torque that feeds its slide friction and nothing
-    // else; the compliant one also feeds its joint dampers, a little more.
+    // angle at constant speed), the torque that feeds its slide friction. The compliant
+    // one, turning with a ±10 % speed ripple and feeding its joint dampers too, needs
+    // 0.36 % less (9.986 against 10.022 N·m): 1 % allows for that and nothing more.
     let turns = 3600;
     let rigid_mean: f64 = (0..turns)
         .map(|k| {
@@ -34,16 +35,16 @@ fn a_torque_controller_holds_the_crank_at_5_rad_per_s() {
         .sum::<f64>()
         / turns as f64;
     assert!(
-        (run.torque_mean - rigid_mean).abs() < 0.05 * rigid_mean,
+        (run.torque_mean - rigid_mean).abs() < 0.01 * rigid_mean,
         "mean torque {} vs rigid {rigid_mean}",
         run.torque_mean
     );
     // Energy: what the motor delivered went into the dampers or the mechanism's stored
     // energy (kinetic, elastic, gravity), to the accuracy of the trapezoid sums on 1 ms
-    // samples.
+    // samples (measured: 3.0e-4 of the motor's 125.2 J).
     let balance = run.motor_energy - run.dissipated_energy - run.stored_change;
     assert!(
-        balance.abs() < 2e-3 * run.motor_energy,
+        balance.abs() < 1e-3 * run.motor_energy,
         "motor {} J, dissipated {} J, stored change {} J",
         run.motor_energy,
         run.dissipated_energy,

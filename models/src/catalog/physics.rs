@@ -151,41 +151,31 @@ impl Catalogued for SeriesRlc {
     }
 }
 
-impl Catalogued for DcServo {
-    fn from_params(params: Self::Params) -> Self {
-        DcServo::new(params)
-    }
+/// The DC motor and the DC servo (the same motor with its voltage and load torque as
+/// inputs) share their drive train, and so its checks.
+macro_rules! drive_train_checks {
+    ($($model:ident),*) => {$(
+        impl Catalogued for $model {
+            fn from_params(params: Self::Params) -> Self {
+                $model::new(params)
+            }
 
-    fn check_params(p: &Self::Params, checks: &mut Checks) {
-        checks.non_negative("resistance", p.resistance);
-        checks.positive("inductance", p.inductance);
-        checks.positive("rotor_inertia", p.rotor_inertia);
-        checks.non_negative("rotor_friction", p.rotor_friction);
-        checks.positive("gear_ratio", p.gear_ratio);
-        checks.non_negative("shaft_stiffness", p.shaft_stiffness);
-        checks.non_negative("shaft_damping", p.shaft_damping);
-        checks.positive("load_inertia", p.load_inertia);
-        checks.non_negative("load_friction", p.load_friction);
-    }
+            fn check_params(p: &Self::Params, checks: &mut Checks) {
+                checks.non_negative("resistance", p.resistance);
+                checks.positive("inductance", p.inductance);
+                checks.positive("rotor_inertia", p.rotor_inertia);
+                checks.non_negative("rotor_friction", p.rotor_friction);
+                checks.positive("gear_ratio", p.gear_ratio);
+                checks.non_negative("shaft_stiffness", p.shaft_stiffness);
+                checks.non_negative("shaft_damping", p.shaft_damping);
+                checks.positive("load_inertia", p.load_inertia);
+                checks.non_negative("load_friction", p.load_friction);
+            }
+        }
+    )*};
 }
 
-impl Catalogued for DcMotor {
-    fn from_params(params: Self::Params) -> Self {
-        DcMotor::new(params)
-    }
-
-    fn check_params(p: &Self::Params, checks: &mut Checks) {
-        checks.non_negative("resistance", p.resistance);
-        checks.positive("inductance", p.inductance);
-        checks.positive("rotor_inertia", p.rotor_inertia);
-        checks.non_negative("rotor_friction", p.rotor_friction);
-        checks.positive("gear_ratio", p.gear_ratio);
-        checks.non_negative("shaft_stiffness", p.shaft_stiffness);
-        checks.non_negative("shaft_damping", p.shaft_damping);
-        checks.positive("load_inertia", p.load_inertia);
-        checks.non_negative("load_friction", p.load_friction);
-    }
-}
+drive_train_checks!(DcMotor, DcServo);
 
 impl Catalogued for QuarterCar {
     fn from_params(params: Self::Params) -> Self {

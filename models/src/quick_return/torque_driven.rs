@@ -162,8 +162,8 @@ pub struct SpeedHold {
 /// the crank speed (N·m per rad/s, N·m per rad). Feedback alone cannot be stiff: the
 /// crank's inertia (~7e-3 kg·m²) over the 1 ms period bounds a stable proportional
 /// gain to a few N·m per rad/s, while the mechanism asks for ±40 N·m within a turn.
-pub const SPEED_CONTROLLER: crate::dc_servo::PiController =
-    crate::dc_servo::PiController::with_gains(2.0, 40.0, 1e-3);
+pub const SPEED_CONTROLLER: crate::control::PiController =
+    crate::control::PiController::with_gains(2.0, 40.0, 1e-3);
 
 /// The rigid-body data of the mechanism `model` describes.
 pub fn rigid_params(model: &QuickReturnTorque) -> crate::quick_return_rigid::RigidParams {
@@ -207,34 +207,32 @@ pub fn hold_speed(
     let (mut speed_min, mut speed_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut peak, mut sum, mut sum_sq, mut count) = (0.0f64, 0.0, 0.0, 0usize);
     let (mut motor_energy, mut dissipated_energy) = (0.0, 0.0);
-    let mut outputs = [0.0; 5];
-    outputs.copy_from_slice(stepper.outputs());
+    // The outputs by name (the generated record), not by position.
+    let mut outputs = QuickReturnTorqueOutputs::from_slice(stepper.outputs());
     let mut energy_at_settle = 0.0;
     for k in 0..periods {
         let t = k as f64 * period;
         let feedforward =
-            crate::quick_return_rigid::rigid_state(outputs[1], speed, 0.0, &rigid).tc[2];
-        let torque = feedforward + controller.update(speed, outputs[0]);
+            crate::quick_return_rigid::rigid_state(outputs.crank_angle, speed, 0.0, &rigid).tc[2];
+        let torque = feedforward + controller.update(speed, outputs.crank_speed);
         let before = outputs;
-        outputs.copy_from_slice(stepper.advance_with(
-            t + period,
-            QuickReturnTorqueInputs {
-                motor_torque: torque,
-            },
-        )?);
+        let inputs = QuickReturnTorqueInputs {
+            motor_torque: torque,
+        };
+        outputs = QuickReturnTorqueOutputs::from_slice(stepper.advance_with(t + period, inputs)?);
         if k >= settled {
             if k == settled {
                 energy_at_settle = mechanism_energy(&stepper);
             }
-            speed_min = speed_min.min(outputs[0]);
-            speed_max = speed_max.max(outputs[0]);
+            speed_min = speed_min.min(outputs.crank_speed);
+            speed_max = speed_max.max(outputs.crank_speed);
             peak = peak.max(torque.abs());
             sum += torque;
             sum_sq += torque * torque;
             count += 1;
             // Trapezoids over the period (the torque is held; the speed varies).
-            motor_energy += 0.5 * period * (before[3] + outputs[3]);
-            dissipated_energy += 0.5 * period * (before[4] + outputs[4]);
+            motor_energy += 0.5 * period * (before.motor_power + outputs.motor_power);
+            dissipated_energy += 0.5 * period * (before.dissipated + outputs.dissipated);
         }
     }
     let n = count.max(1) as f64;
