@@ -2,69 +2,24 @@
 //! [`JacobianEvaluator::jvp`] do not allocate once the evaluator is set up, compressed
 //! or dense, on a hand-written and on a generated model.
 //!
-//! A global allocator is per binary, so this test has a binary of its own. It counts
-//! allocations (and reallocations) made on the current thread while a thread-local flag
-//! is set, in a thread-local counter, so neither the harness nor the tests running
-//! alongside on other threads are counted.
+//! A global allocator is per binary, so this test has a binary of its own; it counts
+//! the allocations (and reallocations) made on the current thread (`support/counting.rs`),
+//! so neither the harness nor the tests running alongside on other threads are counted.
 
 #[path = "support/chain.rs"]
 mod chain;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::hint::black_box;
 
 use bgdsl_runtime::{bond_graph, JacobianEvaluator, Model, SparsityPattern};
 
-struct CountingAllocator;
+#[path = "support/counting.rs"]
+mod counting;
 
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn note_allocation() {
-    // `try_with`: the allocator may run while thread-locals are being torn down.
-    if COUNTING.try_with(Cell::get).unwrap_or(false) {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-    }
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator; counting has no
-// effect on the memory handed out.
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: the caller's contract for `layout` is passed on unchanged.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: as above.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note_allocation();
-        // SAFETY: as above; `ptr` was allocated by `System` through this allocator.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as above.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+use counting::{allocations_in, Counting};
 
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
-
-/// The number of heap allocations `f` makes on this thread.
-fn allocations_in<T>(f: impl FnOnce() -> T) -> (usize, T) {
-    let before = ALLOCATIONS.with(Cell::get);
-    COUNTING.with(|c| c.set(true));
-    let value = f();
-    COUNTING.with(|c| c.set(false));
-    (ALLOCATIONS.with(Cell::get) - before, value)
-}
+static GLOBAL: Counting = Counting;
 
 bond_graph! {
     /// The Duffing oscillator: a generated model with a state-dependent Jacobian.

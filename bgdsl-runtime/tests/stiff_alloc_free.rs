@@ -2,74 +2,28 @@
 //! factorizations and dense output included, are free of heap allocation once a
 //! [`Simulation`] and its recorder are set up.
 //!
-//! A global allocator is per binary, so this test has a binary of its own. It counts
-//! allocations (and reallocations) made on the current thread while a thread-local flag
-//! is set.
+//! A global allocator is per binary, so this test has a binary of its own; it counts
+//! the allocations (and reallocations) made on the current thread (`support/counting.rs`),
+//! so neither the harness nor the tests running alongside on other threads are counted.
 
 mod stiff_common;
 
 #[path = "support/pairs.rs"]
 mod pairs;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use bgdsl_runtime::{Model, Radau5Options, Rodas4Options, Scalar, Simulation, Solver, Trajectory};
 use pairs::Pairs;
 use stiff_common::{Hires, Oregonator};
 
-struct CountingAllocator;
+#[path = "support/counting.rs"]
+mod counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn note_allocation() {
-    // `try_with`: the allocator may run while thread-locals are being torn down.
-    if COUNTING.try_with(Cell::get).unwrap_or(false) {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator; counting has no
-// effect on the memory handed out.
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: the caller's contract for `layout` is passed on unchanged.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: as above.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note_allocation();
-        // SAFETY: as above; `ptr` was allocated by `System` through this allocator.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as above.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+use counting::{allocations_in, Counting};
 
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
-
-/// The number of heap allocations `f` makes on this thread.
-fn allocations_in<T>(f: impl FnOnce() -> T) -> (usize, T) {
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    let out = f();
-    COUNTING.with(|c| c.set(false));
-    (ALLOCATIONS.load(Ordering::Relaxed) - before, out)
-}
+static GLOBAL: Counting = Counting;
 
 /// A forced, damped Duffing oscillator made stiff by a fast first-order actuator: time
 /// dependent (so Rodas4 evaluates `∂f/∂t`), nonlinear, with outputs.

@@ -13,53 +13,13 @@ mod common;
 #[allow(dead_code)]
 mod quick_return_hand;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::sync::OnceLock;
 
 use common::quick_return::{self as qr, FlagshipRun};
 use quick_return_hand::{QuickReturnHand, QuickReturnHandParams};
 
-/// A global allocator that counts, per thread, the allocations made (as in
-/// `alloc_generated.rs`), for `records_without_allocating`.
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
-}
-
-fn count() {
-    // `try_with`: the allocator may be called while the thread's locals are torn down.
-    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// Heap allocations made by this thread while running `f`.
-fn allocations_in(f: &mut dyn FnMut()) -> u64 {
-    let before = ALLOCATIONS.with(Cell::get);
-    f();
-    ALLOCATIONS.with(Cell::get) - before
-}
+static GLOBAL: common::counting::Counting = common::counting::Counting;
 
 /// The default model's flagship run, shared by the checks (it is the expensive part).
 fn default_run() -> &'static FlagshipRun {
@@ -120,7 +80,7 @@ fn balances_energy() {
 
 #[test]
 fn records_without_allocating() {
-    qr::check_recording_allocates_nothing(&QuickReturnHand::default(), allocations_in);
+    qr::check_recording_allocates_nothing(&QuickReturnHand::default());
 }
 
 #[test]

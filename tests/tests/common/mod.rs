@@ -2,6 +2,7 @@
 //! random-number generator, and closed-form solutions.
 #![allow(dead_code)]
 
+#[path = "../../../bgdsl-runtime/tests/support/counting.rs"]
 pub mod counting;
 pub mod quick_return;
 

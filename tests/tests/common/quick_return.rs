@@ -16,7 +16,7 @@
 //! quick_return::check_runs(&model_without_gravity, "generated_g0");
 //! quick_return::check_energy_balance(&model); // E(5) − E(0) = ∫P_in − ∫P_diss
 //! quick_return::check_failure_leaves_nothing(&model, "generated_failure");
-//! quick_return::check_recording_allocates_nothing(&model, allocations_in);
+//! quick_return::check_recording_allocates_nothing(&model); // with `counting` installed
 //! ```
 //!
 //! Every tolerance says where it comes from.
@@ -607,13 +607,10 @@ pub fn check_failure_leaves_nothing<M: Model>(model: &M, name: &str) {
 /// Recording is free of heap allocation once set up: a 0–5 s run of `model` with
 /// [`flagship_solver`] into [`Results`] made with room for the 5001 samples, the
 /// simulation's workspace allocated beforehand, makes no allocation, as counted by
-/// `allocations_in` (which runs its argument and returns the number of allocations it
-/// made on this thread; the test binary provides it with a counting allocator).
-pub fn check_recording_allocates_nothing<M: Model>(
-    model: &M,
-    allocations_in: fn(&mut dyn FnMut()) -> u64,
-) {
-    let seen = allocations_in(&mut || drop(Results::for_model::<M>(N_ROWS)));
+/// [`super::counting`] (the test binary must install its counting allocator).
+pub fn check_recording_allocates_nothing<M: Model>(model: &M) {
+    use super::counting::allocations_in;
+    let (seen, ()) = allocations_in(|| drop(Results::for_model::<M>(N_ROWS)));
     assert!(
         seen > 0,
         "the counter does not see the set-up's allocations"
@@ -623,7 +620,7 @@ pub fn check_recording_allocates_nothing<M: Model>(
     let mut sim = Simulation::new(model, flagship_solver()).unwrap();
     let mut x0 = vec![0.0; M::N_STATES];
     model.initial_state(&mut x0);
-    let n = allocations_in(&mut || {
+    let (n, ()) = allocations_in(|| {
         sim.run(0.0, &x0, &times, &mut results).unwrap();
     });
     assert_eq!(results.len(), N_ROWS);

@@ -1,7 +1,10 @@
 //! A global allocator that counts, per thread, the heap allocations made through it:
-//! the proof behind "allocation-free". A test binary installs it with
+//! the proof behind "allocation-free". A test binary includes this file
+//! (`#[path = ".../support/counting.rs"] mod counting;`) and installs it with
 //! `#[global_allocator] static GLOBAL: Counting = Counting;`; the count is per thread,
-//! so the harness's own threads cannot disturb it.
+//! so the harness's own threads and the tests running beside it cannot disturb it.
+//! (The runtime's tests and the workspace's `tests` crate share this one file.)
+#![allow(dead_code)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -10,7 +13,7 @@ use std::cell::Cell;
 pub struct Counting;
 
 thread_local! {
-    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
 }
 
 fn count() {
@@ -44,7 +47,7 @@ unsafe impl GlobalAlloc for Counting {
 
 /// Heap allocations made by this thread while running `f` (zero unless the binary
 /// installed [`Counting`]).
-pub fn allocations_in<R>(f: impl FnOnce() -> R) -> (u64, R) {
+pub fn allocations_in<R>(f: impl FnOnce() -> R) -> (usize, R) {
     let before = ALLOCATIONS.with(Cell::get);
     let result = f();
     (ALLOCATIONS.with(Cell::get) - before, result)
