@@ -18,6 +18,7 @@ pub mod dc_servo;
 pub mod duffing;
 pub mod oscillator;
 pub mod plot;
+pub mod provenance;
 pub mod quarter_car;
 pub mod quick_return;
 pub mod quick_return_rigid;

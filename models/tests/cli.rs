@@ -207,15 +207,15 @@ fn scenario_default_writes_the_results_figures_and_index() {
         "the summary is in index.html"
     );
     assert!(index.contains("fig05"));
-    // Nothing else: no temporary files left behind.
-    assert_eq!(names.len(), 2 + 2 * drawn, "{names:?}");
+    // Nothing else (the CSV, run.yaml, index.html): no temporary files left behind.
+    assert_eq!(names.len(), 3 + 2 * drawn, "{names:?}");
 }
 
 #[test]
 fn scenario_g0_runs_without_gravity() {
     let (dir, _) = run_scenario("quick_return_g0", &["--no-plots"]);
     let csv = check_results(&dir.join("quick_return.csv"), 0.3);
-    assert_eq!(files(&dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(files(&dir), ["index.html", "quick_return.csv", "run.yaml"]);
     // Without gravity the mechanism starts with no load at all.
     assert_eq!(csv.column("F_O1_y")[0], 0.0);
 }
@@ -530,14 +530,14 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&complete);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv", "run.yaml"]);
 
     let failed = run_in(
         &dir,
         &["run", "budget.yaml", "--no-plots", "--out", out_arg],
     );
     assert_eq!(failed.code, Some(1), "stderr:\n{}", failed.stderr);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv"]);
+    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv", "run.yaml"]);
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(
@@ -581,7 +581,7 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&again);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv", "run.yaml"]);
 }
 
 #[cfg(unix)]
@@ -619,7 +619,7 @@ fn an_interrupted_run_writes_what_it_computed() {
         "{}",
         out.stderr
     );
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv"]);
+    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv", "run.yaml"]);
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(csv.rows.len() > 1);

@@ -6,6 +6,7 @@
 use core::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, Stats};
@@ -16,6 +17,7 @@ use super::columns::{all_columns, Table};
 use super::figures;
 use super::params::format_significant;
 use super::{Catalogued, Column, Entry, ResultsKind};
+use crate::provenance::{self, Context};
 use crate::quick_return::results::{Results, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
@@ -55,6 +57,8 @@ pub struct RunPlan {
     pub out_dir: PathBuf,
     /// The title of `index.html`.
     pub title: String,
+    /// What the plan was made from (command line, scenario file), for `run.yaml`.
+    pub context: Arc<Context>,
 }
 
 impl RunPlan {
@@ -372,6 +376,7 @@ where
         }
     }
     let write_time = writing.elapsed();
+    let run_record = provenance::write_run(dir, entry, plan, &files, failure.as_deref())?;
 
     let mut summary = match &results {
         Some(results) => {
@@ -390,6 +395,7 @@ where
             let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
             summary.file = Some((files[0].clone(), write_time));
             summary.failure = failure.clone();
+            summary.overrides = Some(provenance::summary_lines(entry, plan, &[]));
             summary.to_string()
         }
         None => trajectory_summary(
@@ -437,6 +443,7 @@ where
     }
     let index = figures::index(dir, &plan.title, &summary, &drawn)?;
     files.extend(drawn.into_iter().flat_map(|f| f.files));
+    files.push(run_record);
     files.push(index);
     Ok(Outcome {
         summary,
@@ -472,6 +479,7 @@ fn trajectory_summary(
         entry.model.type_name(),
         entry.name
     );
+    s.push_str(&provenance::summary_lines(entry, plan, &[]));
     let _ = writeln!(s, "solver         {}", SolverSettings(&plan.solver));
     let _ = writeln!(
         s,

@@ -14,6 +14,7 @@ use serde_yaml::Value;
 use super::params::{format_number, format_significant};
 use super::run::{create_dir, remove_stale, results_path, Observer};
 use super::{figures, Column, Entry, RunError, RunPlan};
+use crate::provenance;
 
 /// One swept parameter and its values.
 #[derive(Clone, Debug, PartialEq)]
@@ -239,6 +240,8 @@ pub fn run_sweep(
         Ok(())
     })?;
     remove_stale(&results_path(dir, "sweep", !partial))?;
+    let run_record =
+        provenance::write_sweep(dir, entry, plan, &[path.clone()], failure.as_deref())?;
 
     let mut summary = String::new();
     if let Some(failure) = &failure {
@@ -254,6 +257,7 @@ pub fn run_sweep(
         rayon::current_num_threads(),
         wall.as_secs_f64()
     );
+    summary.push_str(&provenance::summary_lines(entry, &plan.base, &axes));
     let _ = writeln!(
         summary,
         "peaks over     {} to {} s of each run",
@@ -306,7 +310,7 @@ pub fn run_sweep(
         let _ = writeln!(summary, "  at {}: {message}", coordinates.join(", "));
     }
 
-    let mut files = vec![path];
+    let mut files = vec![path, run_record];
     let drawing = if plan.base.plots == super::Plots::None {
         Ok(Vec::new())
     } else {

@@ -102,7 +102,16 @@ pub struct RunArgs {
     /// A model name (see `models list`) or a scenario file (.yaml).
     #[arg(value_name = "MODEL | SCENARIO.yaml")]
     pub target: String,
-    /// The output directory [default: out/NAME, NAME the model's or the scenario file's].
+    /// The output directory [default: out/NAME, or out/NAME-OVERRIDES with overrides].
+    ///
+    /// NAME is the model's name or the scenario file's without its extension.
+    /// OVERRIDES lists the command line's overrides as key=value joined by commas: the
+    /// --set parameters sorted by name, then solver, rtol, atol and t_end when given
+    /// (e.g. `models run quick_return --set d=0.3 --set w_drive=4` writes
+    /// out/quick_return-d=0.3,w_drive=4); a list longer than 64 characters, or with
+    /// characters other than letters, digits and `._+-=,`, is cut to 40 and followed by
+    /// a hash of the whole. --no-plots does not count. Every results folder holds
+    /// run.yaml, the record of what produced it.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Set a parameter, e.g. `--set g=0` or `--set l1=[0.2,0.01,0.01]` (repeatable;

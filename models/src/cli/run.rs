@@ -29,6 +29,9 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
         t_end: args.t_end,
         no_plots: args.no_plots,
         out: args.out.clone(),
+        command_line: std::env::args_os()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect(),
     };
     let plan = if is_scenario(&args.target) {
         let path = Path::new(&args.target);

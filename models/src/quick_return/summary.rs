@@ -323,6 +323,10 @@ pub struct Summary {
     /// Why the run stopped before its last sample time, when it did: the samples (and
     /// the file) are then partial, and `Display` says so first.
     pub failure: Option<String>,
+    /// The lines on what differs from the model's defaults (as
+    /// [`provenance::summary_lines`](crate::provenance::summary_lines) writes them),
+    /// printed after the model's line.
+    pub overrides: Option<String>,
 }
 
 impl Summary {
@@ -348,6 +352,7 @@ impl Summary {
             file: None,
             measured: Measured::of(&recorded.results, window),
             failure: None,
+            overrides: None,
         }
     }
 }
@@ -415,6 +420,9 @@ impl fmt::Display for Summary {
             "model          {} (quick return mechanism), {} to {} s",
             self.model, self.span[0], self.span[1]
         )?;
+        if let Some(overrides) = &self.overrides {
+            f.write_str(overrides)?;
+        }
         writeln!(f, "solver         {}", SolverSettings(&self.solver))?;
         writeln!(
             f,

@@ -3,6 +3,8 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::SystemTime;
 
 use bgdsl_runtime::Solver;
 use serde_yaml::Mapping;
@@ -15,6 +17,7 @@ use crate::catalog::{
     self, format_value, parse_value, resolve_columns, set_parameter, Column, Entry, Plots,
     ResultsKind, RunPlan, SweepPlan,
 };
+use crate::provenance::{folder, Context, Sampling};
 
 /// The smallest and largest relative tolerance a scenario may ask for.
 pub const RTOL_RANGE: [f64; 2] = [1e-14, 1e-1];
@@ -37,8 +40,10 @@ pub struct Overrides {
     pub t_end: Option<f64>,
     /// Draw no figures.
     pub no_plots: bool,
-    /// The output directory.
+    /// The output directory (default: [`provenance::folder`]'s rule).
     pub out: Option<PathBuf>,
+    /// The program's arguments, the program first, for the run's record (`run.yaml`).
+    pub command_line: Vec<String>,
 }
 
 /// What to do: one run, or a sweep.
@@ -115,6 +120,16 @@ pub fn resolve(
         .description
         .clone()
         .unwrap_or_else(|| format!("{name}: {}", entry.description));
+    let out_dir = overrides.out.clone().unwrap_or_else(|| {
+        folder::default_out_dir(name, &folder::command_line_settings(overrides, &params))
+    });
+    let context = Arc::new(Context {
+        command_line: overrides.command_line.clone(),
+        scenario: source.cloned(),
+        sampling: sampling(entry, scenario),
+        parameter_origins: origins.clone(),
+        started: SystemTime::now(),
+    });
     let base = |times: Vec<f64>, solver: Solver| RunPlan {
         params: params.clone(),
         initial: initial.clone(),
@@ -122,11 +137,9 @@ pub fn resolve(
         solver,
         record: record.clone(),
         plots: plots.clone(),
-        out_dir: overrides
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("out").join(name)),
+        out_dir: out_dir.clone(),
         title: title.clone(),
+        context: context.clone(),
     };
     let job = match (&scenario.sweep, times, solver) {
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
@@ -297,6 +310,15 @@ fn time_span(
         return None;
     }
     Some([start, end])
+}
+
+/// How the scenario asks for the sample times (`count` wins: giving both is an error).
+fn sampling(entry: &Entry, scenario: &Scenario) -> Option<Sampling> {
+    let output = scenario.output.clone().unwrap_or_default();
+    Some(match output.count {
+        Some(count) => Sampling::Count(count),
+        None => Sampling::Interval(output.interval.unwrap_or(entry.interval)),
+    })
 }
 
 /// The sample times: every `interval` from the start (exactly `start + k / rate` when

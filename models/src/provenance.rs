@@ -1,0 +1,602 @@
+//! What produced a results set: the record `run.yaml` that every run and sweep writes
+//! beside its results, and the `overrides` line of its summary.
+//!
+//! A [`RunRecord`] is built from the validated plan ([`RunPlan`] or [`SweepPlan`]) and
+//! the [`Context`] the plan carries (the command line, the scenario file, how the
+//! samples were asked for, where each parameter was set); [`write_run`] and
+//! [`write_sweep`] write it. `run.yaml` holds:
+//!
+//! - `program`: `models`, its version, the git commit it was built from and whether
+//!   the working tree had uncommitted changes to tracked files (`unknown`/`null` when
+//!   it was not built from a git checkout);
+//! - `started` (UTC, RFC 3339), the `command_line` and the `outcome`: `complete`, or
+//!   `partial` with the reason;
+//! - `model` (its name in the catalogue and its Rust type) and the `scenario` file
+//!   (its path and its whole text), if any;
+//! - `overrides`: every parameter whose value differs from the model's default, with
+//!   the default and where it was set (`--set g=1.5`, or `file:line:column`);
+//! - `parameters` (every one), `initial` (every state by name) and
+//!   `initial_overridden` (the states the scenario set), `time`, `output` (the
+//!   sampling, and `record`), `samples`, `plots`, `solver` (method, tolerances, step
+//!   limits) and `solver_options` (every setting of the solver, as Rust prints it);
+//! - `results`: the results files, by name;
+//! - for a sweep, `sweep`: the swept parameters with every value, the peaks and the
+//!   window.
+//!
+//! The keys `parameters`, `initial`, `time`, `output`, `plots`, `solver` and `sweep` are
+//! written as the keys of the same name of a [scenario file](crate::scenario), so that
+//! they and `model: <model.name>` make a scenario that runs the same run again (the
+//! same numbers, bit for bit, from the same program).
+
+pub mod folder;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::SystemTime;
+
+use bgdsl_runtime::record::write_atomically;
+use bgdsl_runtime::Solver;
+use serde::{Deserialize, Serialize};
+use serde_yaml::{Mapping, Value};
+
+use crate::catalog::{format_value, Entry, Plots, RunError, RunPlan, SweepPlan};
+use crate::scenario::{Origin, Source};
+
+/// The name of the record in a results folder.
+pub const FILE_NAME: &str = "run.yaml";
+
+/// How the sample times were asked for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sampling {
+    /// Every `interval` seconds from the start (and the end).
+    Interval(f64),
+    /// This many samples, evenly spaced, both ends included.
+    Count(usize),
+}
+
+/// What a plan was made from, beyond the values it holds: the record needs it.
+#[derive(Clone, Debug)]
+pub struct Context {
+    /// The program's arguments, the program first.
+    pub command_line: Vec<String>,
+    /// The scenario file, when the run came from one.
+    pub scenario: Option<Source>,
+    /// How the sample times were asked for (`None`: not known).
+    pub sampling: Option<Sampling>,
+    /// Where each parameter that the scenario or the command line set was set.
+    pub parameter_origins: BTreeMap<String, Origin>,
+    /// When the plan was made, just before the run.
+    pub started: SystemTime,
+}
+
+impl Default for Context {
+    fn default() -> Self {
+        Context {
+            command_line: Vec::new(),
+            scenario: None,
+            sampling: None,
+            parameter_origins: BTreeMap::new(),
+            started: SystemTime::now(),
+        }
+    }
+}
+
+/// The program that wrote a record.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Program {
+    /// `models`.
+    pub name: String,
+    /// The crate's version.
+    pub version: String,
+    /// The git commit it was built from, or `unknown`.
+    pub commit: String,
+    /// Whether tracked files differed from that commit when it was built (`None`:
+    /// unknown).
+    pub dirty: Option<bool>,
+}
+
+impl Program {
+    /// This program, as its build script found it.
+    pub fn this() -> Self {
+        Program {
+            name: "models".to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            commit: env!("MODELS_GIT_COMMIT").to_owned(),
+            dirty: match env!("MODELS_GIT_DIRTY") {
+                "true" => Some(true),
+                "false" => Some(false),
+                _ => None,
+            },
+        }
+    }
+}
+
+/// Whether the results are the whole run.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunOutcome {
+    /// `complete` or `partial`.
+    pub status: String,
+    /// Why the run stopped early (partial runs only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+impl RunOutcome {
+    /// `complete` without a failure, else `partial` and why.
+    pub fn of(failure: Option<&str>) -> Self {
+        RunOutcome {
+            status: if failure.is_some() {
+                "partial"
+            } else {
+                "complete"
+            }
+            .to_owned(),
+            reason: failure.map(str::to_owned),
+        }
+    }
+}
+
+/// The model that ran.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ModelId {
+    /// Its name in the catalogue, e.g. `quick_return`.
+    pub name: String,
+    /// Its Rust type, e.g. `QuickReturn`.
+    #[serde(rename = "type")]
+    pub type_name: String,
+}
+
+/// The scenario file a run came from.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ScenarioFile {
+    /// The path as given on the command line.
+    pub path: String,
+    /// Its whole text.
+    pub text: String,
+}
+
+/// A parameter whose value differs from the model's default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Override {
+    /// The parameter.
+    pub name: String,
+    /// The value the run used.
+    pub value: Value,
+    /// The model's default.
+    pub default: Value,
+    /// Where it was set: `--set NAME=VALUE` or `file:line:column` (empty: not known).
+    pub from: String,
+}
+
+/// The time span, as a scenario's `time:`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TimeSpan {
+    /// The first sample time, s.
+    pub start: f64,
+    /// The last sample time, s.
+    pub end: f64,
+}
+
+/// The sampling and recording, as a scenario's `output:`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Output {
+    /// Seconds between samples.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<f64>,
+    /// Number of samples, both ends included.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
+    /// The states and outputs recorded (absent: the model's default columns).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<Vec<String>>,
+}
+
+/// The solver and the settings a scenario can give, as a scenario's `solver:`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolverRecord {
+    /// `rk4`, `dopri5`, `dopri5-fixed`, `radau5` or `rodas4`.
+    pub method: String,
+    /// Relative tolerance (adaptive methods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (adaptive methods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atol: Option<f64>,
+    /// The step, s (fixed-step methods).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<f64>,
+    /// The largest step, s (adaptive methods; absent: unlimited).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_step: Option<f64>,
+    /// The step budget.
+    pub max_steps: usize,
+    /// The wall-time limit, s (stiff methods; absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_wall_time: Option<f64>,
+}
+
+impl SolverRecord {
+    /// The settings of `solver` a scenario can give.
+    pub fn of(solver: &Solver) -> Self {
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let mut record = SolverRecord {
+            method: solver.name().to_owned(),
+            rtol: None,
+            atol: None,
+            step: None,
+            max_step: None,
+            max_steps: 0,
+            max_wall_time: None,
+        };
+        match solver {
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
+                record.step = Some(o.step);
+                record.max_steps = o.max_steps;
+            }
+            Solver::DormandPrince(o) => {
+                (record.rtol, record.atol) = (Some(o.rtol), Some(o.atol));
+                record.max_step = finite(o.max_step);
+                record.max_steps = o.max_steps;
+            }
+            Solver::Radau5(o) => {
+                (record.rtol, record.atol) = (Some(o.rtol), Some(o.atol));
+                record.max_step = finite(o.max_step);
+                record.max_steps = o.max_steps;
+                record.max_wall_time = o.max_wall_time.map(|d| d.as_secs_f64());
+            }
+            Solver::Rodas4(o) => {
+                (record.rtol, record.atol) = (Some(o.rtol), Some(o.atol));
+                record.max_step = finite(o.max_step);
+                record.max_steps = o.max_steps;
+                record.max_wall_time = o.max_wall_time.map(|d| d.as_secs_f64());
+            }
+            // A method added later: its name, and its settings in `solver_options`.
+            _ => {}
+        }
+        record
+    }
+}
+
+/// One swept parameter, as an entry of a scenario's `sweep.parameters`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweptParameter {
+    /// The parameter.
+    pub name: String,
+    /// Every value, in order.
+    pub values: Vec<f64>,
+}
+
+/// The window of a sweep, as a scenario's `sweep.window`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Window {
+    /// Start, s.
+    pub from: f64,
+    /// End, s.
+    pub to: f64,
+}
+
+/// The grid and the metrics of a sweep, as a scenario's `sweep:`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepRecord {
+    /// The swept parameters, the first outermost.
+    pub parameters: Vec<SweptParameter>,
+    /// The outputs whose peak magnitude each run reports.
+    pub peaks: Vec<String>,
+    /// The window the peaks are taken over.
+    pub window: Window,
+}
+
+/// What produced a results set: the content of `run.yaml` (see the
+/// [module documentation](self)).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// The program.
+    pub program: Program,
+    /// When the run started, UTC, RFC 3339.
+    pub started: String,
+    /// The program's arguments, the program first.
+    pub command_line: Vec<String>,
+    /// Complete or partial.
+    pub outcome: RunOutcome,
+    /// The model.
+    pub model: ModelId,
+    /// The scenario file, if the run came from one.
+    pub scenario: Option<ScenarioFile>,
+    /// The parameters that differ from the model's defaults (for a sweep, other than
+    /// the swept ones).
+    pub overrides: Vec<Override>,
+    /// Every parameter (for a sweep, the swept ones at the value they have outside it).
+    pub parameters: Mapping,
+    /// The initial state, every state by name.
+    pub initial: Mapping,
+    /// The states whose initial value the scenario set.
+    pub initial_overridden: Vec<String>,
+    /// The time span.
+    pub time: TimeSpan,
+    /// The sampling and recording.
+    pub output: Output,
+    /// The number of sample times.
+    pub samples: usize,
+    /// `all`, `none` or the figures drawn.
+    pub plots: Value,
+    /// The solver.
+    pub solver: SolverRecord,
+    /// Every setting of the solver, as Rust's `Debug` prints it.
+    pub solver_options: String,
+    /// The results files, by name, in the results folder.
+    pub results: Vec<String>,
+    /// The sweep, for a sweep.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepRecord>,
+}
+
+/// Whether two parameter values are the same numbers (an integer and a float alike).
+fn same_value(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
+        (Value::Sequence(x), Value::Sequence(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(a, b)| same_value(a, b))
+        }
+        _ => a == b,
+    }
+}
+
+/// `file:line:column`, the flag, or nothing.
+fn origin_text(origin: &Origin) -> String {
+    match origin {
+        Origin::File {
+            path,
+            position: Some(p),
+        } => format!("{}:{}:{}", path.display(), p.line, p.column),
+        Origin::File {
+            path,
+            position: None,
+        } => path.display().to_string(),
+        Origin::Flag(flag) => flag.clone(),
+        Origin::Nowhere => String::new(),
+    }
+}
+
+/// The parameters of `plan` that differ from `entry`'s defaults, in declaration order,
+/// leaving out those named in `except`.
+pub fn overrides(entry: &Entry, plan: &RunPlan, except: &[&str]) -> Vec<Override> {
+    let defaults = entry.model.default_parameters();
+    defaults
+        .iter()
+        .filter_map(|(key, default)| {
+            let name = key.as_str()?;
+            let value = plan.params.get(key)?;
+            (!except.contains(&name) && !same_value(value, default)).then(|| Override {
+                name: name.to_owned(),
+                value: value.clone(),
+                default: default.clone(),
+                from: plan
+                    .context
+                    .parameter_origins
+                    .get(name)
+                    .map(origin_text)
+                    .unwrap_or_default(),
+            })
+        })
+        .collect()
+}
+
+/// The declared initial state of `plan`'s model for its parameters, and the plan's
+/// replacements applied to a copy: `(declared, used)`.
+fn initial_states(entry: &Entry, plan: &RunPlan) -> Result<(Vec<f64>, Vec<f64>), RunError> {
+    let declared = entry.model.initial_state(&plan.params)?;
+    let mut used = declared.clone();
+    for &(i, v) in &plan.initial {
+        used[i] = v;
+    }
+    Ok((declared, used))
+}
+
+/// The summary's lines on what differs from the model's defaults:
+/// `overrides      g = 1.5 (default 9.81), w_drive = 4 (default 5)` (or `none`), and,
+/// when the plan replaces initial states,
+/// `initial        spring.q = 0.05 (declared 0.01)`. Parameters named in `except`
+/// (a sweep's axes) are left out.
+pub fn summary_lines(entry: &Entry, plan: &RunPlan, except: &[&str]) -> String {
+    let listed: Vec<String> = overrides(entry, plan, except)
+        .iter()
+        .map(|o| {
+            format!(
+                "{} = {} (default {})",
+                o.name,
+                format_value(&o.value),
+                format_value(&o.default)
+            )
+        })
+        .collect();
+    let mut lines = format!(
+        "overrides      {}\n",
+        if listed.is_empty() {
+            "none".to_owned()
+        } else {
+            listed.join(", ")
+        }
+    );
+    if let (false, Ok((declared, used))) = (plan.initial.is_empty(), initial_states(entry, plan)) {
+        let names = entry.model.state_names();
+        let states: Vec<String> = plan
+            .initial
+            .iter()
+            .map(|&(i, _)| {
+                format!(
+                    "{} = {} (declared {})",
+                    names[i],
+                    format_value(&Value::from(used[i])),
+                    format_value(&Value::from(declared[i]))
+                )
+            })
+            .collect();
+        lines.push_str(&format!("initial        {}\n", states.join(", ")));
+    }
+    lines
+}
+
+impl RunRecord {
+    /// The record of a run of `entry`'s model by `plan` that wrote `results` (paths;
+    /// recorded by file name) and stopped early for `failure`, if it did.
+    ///
+    /// # Errors
+    ///
+    /// [`RunError::Params`] when the plan's parameters do not fit the model (plans are
+    /// validated: a bug).
+    pub fn of_run(
+        entry: &Entry,
+        plan: &RunPlan,
+        results: &[PathBuf],
+        failure: Option<&str>,
+    ) -> Result<Self, RunError> {
+        Self::build(entry, plan, &[], results, failure)
+    }
+
+    /// The record of a sweep (see [`RunRecord::of_run`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`RunRecord::of_run`].
+    pub fn of_sweep(
+        entry: &Entry,
+        plan: &SweepPlan,
+        results: &[PathBuf],
+        failure: Option<&str>,
+    ) -> Result<Self, RunError> {
+        let axes: Vec<&str> = plan.axes.iter().map(|a| a.name.as_str()).collect();
+        let mut record = Self::build(entry, &plan.base, &axes, results, failure)?;
+        record.sweep = Some(SweepRecord {
+            parameters: plan
+                .axes
+                .iter()
+                .map(|a| SweptParameter {
+                    name: a.name.clone(),
+                    values: a.values.clone(),
+                })
+                .collect(),
+            peaks: plan.metrics.iter().map(|m| m.name.clone()).collect(),
+            window: Window {
+                from: plan.window[0],
+                to: plan.window[1],
+            },
+        });
+        Ok(record)
+    }
+
+    fn build(
+        entry: &Entry,
+        plan: &RunPlan,
+        except: &[&str],
+        results: &[PathBuf],
+        failure: Option<&str>,
+    ) -> Result<Self, RunError> {
+        let context: &Context = &plan.context;
+        let names = entry.model.state_names();
+        let (_, used) = initial_states(entry, plan)?;
+        let [start, end] = plan.span();
+        let (interval, count) = match context.sampling {
+            Some(Sampling::Interval(dt)) => (Some(dt), None),
+            Some(Sampling::Count(n)) => (None, Some(n)),
+            None => (None, None),
+        };
+        let plots = match &plan.plots {
+            Plots::None => Value::from("none"),
+            Plots::All => Value::from("all"),
+            Plots::Only(ids) => {
+                Value::Sequence(ids.iter().map(|s| Value::from(s.as_str())).collect())
+            }
+        };
+        Ok(RunRecord {
+            program: Program::this(),
+            started: humantime::format_rfc3339_seconds(context.started).to_string(),
+            command_line: context.command_line.clone(),
+            outcome: RunOutcome::of(failure),
+            model: ModelId {
+                name: entry.name.to_owned(),
+                type_name: entry.model.type_name().to_owned(),
+            },
+            scenario: context.scenario.as_ref().map(|s| ScenarioFile {
+                path: s.path.display().to_string(),
+                text: s.text.clone(),
+            }),
+            overrides: overrides(entry, plan, except),
+            parameters: plan.params.clone(),
+            initial: names
+                .iter()
+                .zip(&used)
+                .map(|(n, v)| (Value::from(*n), Value::from(*v)))
+                .collect(),
+            initial_overridden: plan
+                .initial
+                .iter()
+                .map(|&(i, _)| names[i].to_owned())
+                .collect(),
+            time: TimeSpan { start, end },
+            output: Output {
+                interval,
+                count,
+                record: plan
+                    .record
+                    .as_ref()
+                    .map(|columns| columns.iter().map(|(n, _)| n.clone()).collect()),
+            },
+            samples: plan.times.len(),
+            plots,
+            solver: SolverRecord::of(&plan.solver),
+            solver_options: format!("{:?}", plan.solver),
+            results: results
+                .iter()
+                .filter_map(|p| p.file_name())
+                .map(|n| n.to_string_lossy().into_owned())
+                .collect(),
+            sweep: None,
+        })
+    }
+}
+
+/// Writes `record` as `dir/run.yaml`, whole or not at all; returns its path.
+///
+/// # Errors
+///
+/// [`RunError::Csv`] (the atomic writer's error) when the file cannot be written.
+pub fn write(dir: &Path, record: &RunRecord) -> Result<PathBuf, RunError> {
+    let path = dir.join(FILE_NAME);
+    let text = serde_yaml::to_string(record).map_err(|e| RunError::Params(e.to_string()))?;
+    write_atomically(&path, |out| {
+        use std::io::Write as _;
+        out.write_all(b"# What produced the results in this folder: see `models::provenance`.\n")?;
+        out.write_all(text.as_bytes())
+    })?;
+    Ok(path)
+}
+
+/// Writes the record of a run into `dir` (see [`RunRecord::of_run`] and [`write`]).
+///
+/// # Errors
+///
+/// As [`RunRecord::of_run`] and [`write`].
+pub fn write_run(
+    dir: &Path,
+    entry: &Entry,
+    plan: &RunPlan,
+    results: &[PathBuf],
+    failure: Option<&str>,
+) -> Result<PathBuf, RunError> {
+    write(dir, &RunRecord::of_run(entry, plan, results, failure)?)
+}
+
+/// Writes the record of a sweep into `dir` (see [`RunRecord::of_sweep`] and [`write`]).
+///
+/// # Errors
+///
+/// As [`RunRecord::of_sweep`] and [`write`].
+pub fn write_sweep(
+    dir: &Path,
+    entry: &Entry,
+    plan: &SweepPlan,
+    results: &[PathBuf],
+    failure: Option<&str>,
+) -> Result<PathBuf, RunError> {
+    write(dir, &RunRecord::of_sweep(entry, plan, results, failure)?)
+}
