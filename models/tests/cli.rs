@@ -530,14 +530,20 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&complete);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv", "run.yaml"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.csv", "run.yaml"]
+    );
 
     let failed = run_in(
         &dir,
         &["run", "budget.yaml", "--no-plots", "--out", out_arg],
     );
     assert_eq!(failed.code, Some(1), "stderr:\n{}", failed.stderr);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv", "run.yaml"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.partial.csv", "run.yaml"]
+    );
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(
@@ -581,7 +587,10 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&again);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv", "run.yaml"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.csv", "run.yaml"]
+    );
 }
 
 #[cfg(unix)]
@@ -619,7 +628,10 @@ fn an_interrupted_run_writes_what_it_computed() {
         "{}",
         out.stderr
     );
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv", "run.yaml"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.partial.csv", "run.yaml"]
+    );
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(csv.rows.len() > 1);

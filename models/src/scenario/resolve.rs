@@ -597,6 +597,17 @@ mod tests {
         assert_eq!((o.rtol, o.atol), (1e-9, 1e-12));
         assert_eq!(*plan.times.last().unwrap(), 2.0);
         assert_eq!(plan.plots, Plots::None);
+        assert_eq!(
+            plan.out_dir,
+            PathBuf::from("out/s-m=3,solver=dopri5,rtol=1e-9,t_end=2"),
+            "the flags name the folder"
+        );
+        let chosen = Overrides {
+            out: Some("mine".into()),
+            ..overrides
+        };
+        let plan = run_plan(plan_of("model: oscillator\n", &chosen).unwrap());
+        assert_eq!(plan.out_dir, PathBuf::from("mine"), "--out wins");
     }
 
     #[test]
