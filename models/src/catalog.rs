@@ -30,7 +30,9 @@
 //! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
 //!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
 //!   output against time);
-//! - `index.html`: the run's summary and every figure it drew, self-contained.
+//! - `index.html`: the run's summary and every figure it drew, self-contained;
+//! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
+//!   sweep writes one too.
 //!
 //! A sweep ([`run_sweep`]) runs every point of the grid over one or two parameters on
 //! rayon's pool (one run per task, as many at once as there are cores, or

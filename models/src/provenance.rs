@@ -571,11 +571,11 @@ pub fn write(dir: &Path, record: &RunRecord) -> Result<PathBuf, RunError> {
     Ok(path)
 }
 
-/// Writes the record of a run into `dir` (see [`RunRecord::of_run`] and [`write`]).
+/// Writes the record of a run into `dir` (see [`RunRecord::of_run`] and [`write()`]).
 ///
 /// # Errors
 ///
-/// As [`RunRecord::of_run`] and [`write`].
+/// As [`RunRecord::of_run`] and [`write()`].
 pub fn write_run(
     dir: &Path,
     entry: &Entry,
@@ -586,11 +586,11 @@ pub fn write_run(
     write(dir, &RunRecord::of_run(entry, plan, results, failure)?)
 }
 
-/// Writes the record of a sweep into `dir` (see [`RunRecord::of_sweep`] and [`write`]).
+/// Writes the record of a sweep into `dir` (see [`RunRecord::of_sweep`] and [`write()`]).
 ///
 /// # Errors
 ///
-/// As [`RunRecord::of_sweep`] and [`write`].
+/// As [`RunRecord::of_sweep`] and [`write()`].
 pub fn write_sweep(
     dir: &Path,
     entry: &Entry,

@@ -240,8 +240,13 @@ pub fn run_sweep(
         Ok(())
     })?;
     remove_stale(&results_path(dir, "sweep", !partial))?;
-    let run_record =
-        provenance::write_sweep(dir, entry, plan, &[path.clone()], failure.as_deref())?;
+    let run_record = provenance::write_sweep(
+        dir,
+        entry,
+        plan,
+        std::slice::from_ref(&path),
+        failure.as_deref(),
+    )?;
 
     let mut summary = String::new();
     if let Some(failure) = &failure {

@@ -59,7 +59,9 @@
 //!   sweep writes no per-run results.
 //!
 //! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
-//! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`).
+//! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`). Without `--out`,
+//! the results go to `out/<file name>`, with the command line's overrides added to the
+//! name ([`provenance::folder`](crate::provenance::folder)).
 //!
 //! # Errors
 //!

@@ -40,7 +40,8 @@ pub struct Overrides {
     pub t_end: Option<f64>,
     /// Draw no figures.
     pub no_plots: bool,
-    /// The output directory (default: [`provenance::folder`]'s rule).
+    /// The output directory (default: the rule of
+    /// [`provenance::folder`](crate::provenance::folder)).
     pub out: Option<PathBuf>,
     /// The program's arguments, the program first, for the run's record (`run.yaml`).
     pub command_line: Vec<String>,
