@@ -31,6 +31,7 @@
 pub mod folder;
 
 use std::collections::BTreeMap;
+use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
@@ -559,14 +560,13 @@ impl RunRecord {
 ///
 /// # Errors
 ///
-/// [`RunError::Csv`] (the atomic writer's error) when the file cannot be written.
+/// [`RunError::Csv`] (the atomic writer's error, naming the file) when it cannot be
+/// written.
 pub fn write(dir: &Path, record: &RunRecord) -> Result<PathBuf, RunError> {
     let path = dir.join(FILE_NAME);
-    let text = serde_yaml::to_string(record).map_err(|e| RunError::Params(e.to_string()))?;
     write_atomically(&path, |out| {
-        use std::io::Write as _;
         out.write_all(b"# What produced the results in this folder: see `models::provenance`.\n")?;
-        out.write_all(text.as_bytes())
+        serde_yaml::to_writer(&mut *out, record).map_err(io::Error::other)
     })?;
     Ok(path)
 }

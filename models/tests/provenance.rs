@@ -279,6 +279,7 @@ fn the_record_runs_the_same_run_again_bit_for_bit() {
 const SWEEP: &str = "model: oscillator\n\
     parameters:\n  force: 2\n\
     time: {end: 1.0}\n\
+    output: {count: 101}\n\
     sweep:\n  parameters:\n    - name: c\n      values: [1, 4, 16]\n  peaks: [x, speed]\n";
 
 #[test]
@@ -297,6 +298,8 @@ fn a_sweep_records_its_grid_and_metrics_and_shows_its_overrides() {
     assert_eq!((sweep.window.from, sweep.window.to), (0.5, 1.0));
     let names: Vec<&str> = r.overrides.iter().map(|o| o.name.as_str()).collect();
     assert_eq!(names, ["k", "force"], "the swept c is not an override");
+    assert_eq!((r.output.count, r.output.interval), (Some(101), None));
+    assert_eq!(r.samples, 101);
     assert_eq!(r.results, ["sweep.csv"]);
     assert_eq!(r.outcome.status, "complete");
 
