@@ -23,6 +23,16 @@ fn plot_error(e: PlotError) -> RunError {
     RunError::Figures(e.to_string())
 }
 
+/// An error once a signal asked the program to stop ([`crate::interrupt`]): drawing
+/// stops between charts.
+fn stop_if_interrupted() -> Result<(), RunError> {
+    if crate::interrupt::requested() {
+        Err(plot_error(PlotError::Interrupted))
+    } else {
+        Ok(())
+    }
+}
+
 /// The paper's figures (and the extras) from a quick return run.
 pub(super) fn quick_return(
     results: &Results,
@@ -70,6 +80,7 @@ pub(super) fn trajectory(
         if !wanted || table.len() < 2 {
             continue;
         }
+        stop_if_interrupted()?;
         let chart = LineChart {
             title: format!(
                 "{} ({}): {name} against time",
@@ -120,6 +131,7 @@ pub(super) fn sweep(
     };
     let mut drawn = Vec::new();
     for (m, metric) in plan.metrics.iter().enumerate() {
+        stop_if_interrupted()?;
         let series = match plan.axes.get(1) {
             None => vec![Series::new(
                 metric.label(),
