@@ -12,7 +12,7 @@ use std::path::Path;
 
 use common::{check_png, files, run, run_in, scenarios_dir, scratch, Csv};
 use models::quick_return::figures::FIGURE_IDS;
-use models::quick_return::results::{header as spec_header, N_ROWS};
+use models::quick_return::results::header as spec_header;
 
 /// The width of every chart.
 const WIDTH: u32 = models::plot::WIDTH;

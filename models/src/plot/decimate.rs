@@ -38,7 +38,7 @@ pub fn for_display(lines: Vec<Vec<(f64, f64)>>, x_range: (f64, f64), columns: us
     let columns = columns.max(1);
     let total: usize = lines.iter().map(Vec::len).sum();
     let budget = POINTS_PER_COLUMN * columns;
-    if total <= budget || !(x_range.1 > x_range.0) {
+    if total <= budget || x_range.1.partial_cmp(&x_range.0) != Some(core::cmp::Ordering::Greater) {
         return Thinned {
             lines,
             total,
@@ -141,7 +141,7 @@ pub fn thousands(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
@@ -197,13 +197,13 @@ mod tests {
             .map(|r| {
                 (0..1000)
                     .map(|i| {
-                        let a = i as f64 * 6.283 / 1000.0;
+                        let a = i as f64 * core::f64::consts::TAU / 1000.0;
                         (a, a.sin() + if r == 3 { 0.5 } else { 0.0 })
                     })
                     .collect()
             })
             .collect();
-        let thinned = for_display(lines, (0.0, 6.283), 400);
+        let thinned = for_display(lines, (0.0, core::f64::consts::TAU), 400);
         assert_eq!(thinned.total, 500_000);
         assert_eq!(thinned.lines.len(), 2);
         assert_eq!(thinned.kept, 800);
