@@ -1,6 +1,6 @@
 //! Running a model of the catalogue into files: what to run ([`RunPlan`]), who watches
 //! ([`Observer`]), what came of it ([`Outcome`]) and what can stop it ([`RunError`]).
-//! The files a run writes, and the partial-file rule, are described in the
+//! The files a run writes, and the results-folder rule, are described in the
 //! [catalogue's documentation](crate::catalog).
 
 use core::fmt;

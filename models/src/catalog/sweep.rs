@@ -165,8 +165,10 @@ impl Observer for PointObserver<'_> {
     }
 }
 
-/// Runs the sweep on rayon's pool and writes `sweep.csv` (or `sweep.partial.csv`), its
-/// charts and `index.html` into the base plan's output directory.
+/// Runs the sweep on rayon's pool and writes `sweep.csv`, its charts and `index.html`
+/// as one set into the base plan's output folder (or, when points failed or were not
+/// run, into its `.partial` sibling; see the [catalogue's
+/// documentation](crate::catalog#results-folders)).
 ///
 /// # Errors
 ///

@@ -9,7 +9,8 @@
 //! peak is lost). When that still leaves too many points (many overlaid polylines, such
 //! as hundreds of crank revolutions on one angle axis, or x going back and forth), the
 //! series is drawn as its envelope instead: the lowest and the highest value in each
-//! pixel column, over every sample, as two polylines.
+//! pixel column, over every sample, as two polylines (a dashed series always is, when
+//! it is thinned).
 
 /// A series is thinned when it has more than this many points per pixel column.
 pub const POINTS_PER_COLUMN: usize = 8;
@@ -34,7 +35,15 @@ impl Thinned {
 
 /// `lines` thinned for a plot `columns` pixels wide spanning `x_range` (see the
 /// [module documentation](self)). Lines with few enough points come back as they are.
-pub fn for_display(lines: Vec<Vec<(f64, f64)>>, x_range: (f64, f64), columns: usize) -> Thinned {
+/// With `envelope_only`, a series that is thinned is always drawn as its envelope (for
+/// a dashed line: the M4 points of an oscillating signal zigzag up and down each
+/// column, and dashes along that path would be thousands of tiny elements).
+pub fn for_display(
+    lines: Vec<Vec<(f64, f64)>>,
+    x_range: (f64, f64),
+    columns: usize,
+    envelope_only: bool,
+) -> Thinned {
     let columns = columns.max(1);
     let total: usize = lines.iter().map(Vec::len).sum();
     let budget = POINTS_PER_COLUMN * columns;
@@ -51,7 +60,7 @@ pub fn for_display(lines: Vec<Vec<(f64, f64)>>, x_range: (f64, f64), columns: us
     };
     let thinned: Option<Vec<Vec<(f64, f64)>>> = lines
         .iter()
-        .map(|line| monotone(line).then(|| m4(line, &column)))
+        .map(|line| (!envelope_only && monotone(line)).then(|| m4(line, &column)))
         .collect();
     let lines = match thinned {
         Some(thinned) if thinned.iter().map(Vec::len).sum::<usize>() <= budget => thinned,
@@ -163,7 +172,7 @@ mod tests {
     #[test]
     fn short_series_are_left_alone() {
         let line: Vec<(f64, f64)> = (0..100).map(|i| (i as f64, (i as f64).sin())).collect();
-        let thinned = for_display(vec![line.clone()], (0.0, 99.0), 800);
+        let thinned = for_display(vec![line.clone()], (0.0, 99.0), 800, false);
         assert!(!thinned.decimated());
         assert_eq!(thinned.lines, [line]);
     }
@@ -179,7 +188,7 @@ mod tests {
             .collect();
         line[123_457].1 = 40.0; // a one-sample spike
         line[876_543].1 = -25.0;
-        let thinned = for_display(vec![line], (0.0, 1000.0), 900);
+        let thinned = for_display(vec![line.clone()], (0.0, 1000.0), 900, false);
         assert!(thinned.decimated());
         assert_eq!(thinned.total, n);
         assert!(thinned.kept <= 4 * 900, "{}", thinned.kept);
@@ -188,6 +197,9 @@ mod tests {
         assert_eq!((lo, hi), (-25.0, 40.0));
         let xs: Vec<f64> = thinned.lines[0].iter().map(|p| p.0).collect();
         assert!(xs.windows(2).all(|w| w[1] >= w[0]), "drawing order kept");
+        let envelope = for_display(vec![line], (0.0, 1000.0), 900, true);
+        assert_eq!(envelope.lines.len(), 2);
+        assert_eq!(envelope.kept, 2 * 900);
     }
 
     #[test]
@@ -203,7 +215,7 @@ mod tests {
                     .collect()
             })
             .collect();
-        let thinned = for_display(lines, (0.0, core::f64::consts::TAU), 400);
+        let thinned = for_display(lines, (0.0, core::f64::consts::TAU), 400, false);
         assert_eq!(thinned.total, 500_000);
         assert_eq!(thinned.lines.len(), 2);
         assert_eq!(thinned.kept, 800);

@@ -437,7 +437,11 @@ where
     let thinned: Vec<Thinned> = chart
         .series
         .iter()
-        .map(|series| for_display(clip(&series.points, x_range, y_range), x_range, columns))
+        .enumerate()
+        .map(|(i, series)| {
+            let lines = clip(&series.points, x_range, y_range);
+            for_display(lines, x_range, columns, options.style(i).dashed)
+        })
         .collect();
     for (i, thinned) in thinned.iter().enumerate().rev() {
         let style = options.style(i);
