@@ -246,36 +246,43 @@ fn a_read_only_parent_changes_nothing() {
     assert!(names(&parent).is_empty());
 }
 
-/// Starts a long flagship run into `out` (in `dir`) and waits until it integrates
-/// (its staging folder exists).
+/// Starts a flagship run to `t_end` into `out` (in `dir`) and waits until it integrates
+/// (its staging folder exists); returns the child and its staging folder.
 #[cfg(unix)]
-fn start_long_run(dir: &Path, out: &Path) -> Child {
-    let child = Command::new(BIN)
-        .args([
-            "run",
-            "quick_return",
-            "--t-end",
-            "5000",
-            "--no-plots",
-            "--yes",
-        ])
-        .arg("--out")
-        .arg(out)
+fn start_run(dir: &Path, out: &Path, t_end: &str, plots: bool) -> (Child, PathBuf) {
+    let mut command = Command::new(BIN);
+    command.args(["run", "quick_return", "--t-end", t_end, "--yes", "--out"]);
+    command.arg(out);
+    if !plots {
+        command.arg("--no-plots");
+    }
+    let child = command
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let staging = dir.join(format!(".out.staging-{}", child.id()));
+    wait_for(|| staging.exists(), "the staging folder");
+    (child, staging)
+}
+
+/// Polls `ready` every millisecond, for at most 30 s.
+fn wait_for(ready: impl Fn() -> bool, what: &str) {
     let started = Instant::now();
-    while !staging.exists() {
-        assert!(
-            started.elapsed() < Duration::from_secs(20),
-            "no staging folder"
-        );
-        std::thread::sleep(Duration::from_millis(10));
+    while !ready() {
+        assert!(started.elapsed() < Duration::from_secs(30), "no {what}");
+        std::thread::sleep(Duration::from_millis(1));
     }
-    child
+}
+
+/// Whether `dir` holds a file whose name satisfies `pick`.
+fn holds(dir: &Path, pick: impl Fn(&str) -> bool) -> bool {
+    fs::read_dir(dir).is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| pick(&e.file_name().to_string_lossy()))
+    })
 }
 
 #[cfg(unix)]
@@ -300,7 +307,7 @@ fn interrupted_once(name: &str, sig: i32) {
     let dir = scratch(name);
     let before = previous_set(&dir);
     let out = dir.join("out");
-    let child = start_long_run(&dir, &out);
+    let (child, _) = start_run(&dir, &out, "5000", false);
     std::thread::sleep(Duration::from_millis(700));
     signal(&child, sig);
     let run: common::Run = child.wait_with_output().unwrap().into();
@@ -335,20 +342,64 @@ fn sigterm_is_handled_like_sigint() {
 
 #[cfg(unix)]
 #[test]
-fn a_second_signal_exits_at_once_leaving_nothing_temporary() {
+fn a_second_signal_while_writing_exits_at_once_leaving_nothing_temporary() {
     let dir = scratch("sets-two-signals");
     let before = previous_set(&dir);
     let out = dir.join("out");
-    let child = start_long_run(&dir, &out);
+    let (child, staging) = start_run(&dir, &out, "5000", false);
     // Long enough that the results take a while to write after the first signal.
     std::thread::sleep(Duration::from_millis(2500));
     signal(&child, libc::SIGINT);
-    std::thread::sleep(Duration::from_millis(5));
+    // The second signal while the results file is being written (its temporary file
+    // exists): the case that left a 108 MB temporary file.
+    wait_for(
+        || {
+            holds(&staging, |n| {
+                n.starts_with(".quick_return.csv.") && n.ends_with(".tmp")
+            })
+        },
+        "temporary results file",
+    );
     signal(&child, libc::SIGTERM);
     let run: common::Run = child.wait_with_output().unwrap().into();
     assert_code(&run, 130);
     assert_eq!(snapshot(&out), before);
     assert_eq!(names(&dir), ["out"], "no staging folder, no partial set");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_signal_while_drawing_stops_it_and_writes_a_partial_set() {
+    let dir = scratch("sets-drawing");
+    let before = previous_set(&dir);
+    let out = dir.join("out");
+    let (child, staging) = start_run(&dir, &out, "60", true);
+    // The first figure file (or its temporary file) appears once drawing has begun.
+    wait_for(
+        || holds(&staging, |n| n.ends_with(".png") || n.ends_with(".svg")),
+        "figure",
+    );
+    signal(&child, libc::SIGINT);
+    let run: common::Run = child.wait_with_output().unwrap().into();
+    assert_code(&run, 1);
+    assert!(
+        run.stderr
+            .contains("interrupted while writing the results and drawing the figures"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(snapshot(&out), before);
+    assert_eq!(names(&dir), ["out", "out.partial"]);
+    let partial = dir.join("out.partial");
+    let csv = Csv::read(&partial.join("quick_return.csv"));
+    assert_eq!(csv.rows.len(), 60_001, "the data are whole, the set is not");
+    let index = fs::read_to_string(partial.join("index.html")).unwrap();
+    assert!(index.contains("PARTIAL RUN"));
+    let figures = names(&partial)
+        .iter()
+        .filter(|n| n.ends_with(".png"))
+        .count();
+    assert!(figures < 19, "{figures} figures drawn after the signal");
 }
 
 #[test]

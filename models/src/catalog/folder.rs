@@ -115,14 +115,16 @@ impl RunFolder {
                 source,
             })?;
         let (parent, name) = split(&target)?;
-        let RunFolder { staging, .. } = self;
+        // On an error the staging folder is dropped (removed) after the lock is released.
+        let mut staging = Some(self.staging);
         let replaced = interrupt::with_registry(|registry| {
-            swap_in(&staging_path, &target, &parent, &name, registry).map(|old| {
-                // The staging path now holds the replaced set (after an exchange) or
-                // nothing; the replaced set is registered until it is removed.
+            let old = swap_in(&staging_path, &target, &parent, &name, registry)?;
+            // The staging path now holds the replaced set (after an exchange) or
+            // nothing; the replaced set is registered until it is removed.
+            if let Some(staging) = staging.take() {
                 staging.keep(registry);
-                old.map(|old| Temporary::adopt(old, registry))
-            })
+            }
+            Ok::<_, RunError>(old.map(|old| Temporary::adopt(old, registry)))
         })?;
         if let Ok(dir) = File::open(&parent) {
             let _ = dir.sync_all();
