@@ -19,8 +19,27 @@ pub fn figure_ids() -> &'static [&'static str] {
     FIGURE_IDS
 }
 
+/// An image that cannot be drawn or written (a full disk: the PNG encoder reports it as
+/// a drawing error) is an I/O error, and the set is abandoned; any other failure (no
+/// font) leaves the results and the index without figures.
 fn plot_error(e: PlotError) -> RunError {
-    RunError::Figures(e.to_string())
+    match e {
+        PlotError::Io {
+            path,
+            action,
+            source,
+        } => RunError::Io {
+            path,
+            action,
+            source,
+        },
+        PlotError::Draw { path, message } => RunError::Io {
+            path,
+            action: "drawing",
+            source: std::io::Error::other(message),
+        },
+        other => RunError::Figures(other.to_string()),
+    }
 }
 
 /// An error once a signal asked the program to stop ([`crate::interrupt`]): drawing

@@ -370,6 +370,8 @@ where
     // index, and is reported beside them (an interrupted drawing is a partial run).
     let (drawn, figures_error) = match drawing {
         Ok(drawn) => (drawn, None),
+        // A file that cannot be written (a full disk): the set is abandoned.
+        Err(e @ RunError::Io { .. }) => return Err(e),
         Err(_) if partial => (Vec::new(), None),
         Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
         Err(other) => (Vec::new(), Some(other.to_string())),
