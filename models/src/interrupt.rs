@@ -130,3 +130,28 @@ impl Drop for Temporary {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn registered(path: &Path) -> bool {
+        with_registry(|paths| paths.iter().any(|p| p == path))
+    }
+
+    #[test]
+    fn a_temporary_is_removed_unless_kept() {
+        let base = std::env::temp_dir().join(format!("bgdsl-interrupt-{}", std::process::id()));
+        let (dropped, kept) = (base.join("dropped"), base.join("kept"));
+        std::fs::create_dir_all(dropped.join("inner")).unwrap();
+        std::fs::create_dir_all(&kept).unwrap();
+        let temporary = Temporary::register(dropped.clone());
+        assert!(registered(&dropped));
+        drop(temporary);
+        assert!(!dropped.exists() && !registered(&dropped));
+        let temporary = Temporary::register(kept.clone());
+        with_registry(|paths| temporary.keep(paths));
+        assert!(kept.exists() && !registered(&kept));
+        std::fs::remove_dir_all(&base).unwrap();
+    }
+}
