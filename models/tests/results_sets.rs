@@ -471,11 +471,13 @@ fn the_size_guard_refuses_a_huge_run_without_yes() {
     let refused = run_in(&dir, &["run", "sweep.yaml", "--out", "out"]);
     assert_code(&refused, 2);
     assert!(
-        refused
-            .stderr
-            .contains("this sweep has 1,001 runs of 1,001 samples each"),
+        refused.stderr.contains(
+            "this sweep has 1,001 runs of 1,001 samples each, 1,002,001 samples to \
+             integrate in all, about "
+        ),
         "{}",
         refused.stderr
     );
+    assert!(refused.stderr.contains(" threads"), "{}", refused.stderr);
     assert_eq!(names(&dir), ["sweep.yaml"]);
 }

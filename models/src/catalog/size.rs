@@ -16,6 +16,10 @@ pub const MAX_RUN_BYTES: u64 = 1_000_000_000;
 /// A sweep's run count above which the program asks first (or needs `--yes`).
 pub const MAX_SWEEP_RUNS: usize = 1000;
 
+/// A sweep's estimated wall time above which the program asks first (or needs
+/// `--yes`): an hour.
+pub const MAX_SWEEP_SECONDS: f64 = 3600.0;
+
 /// A sweep's samples in all (runs × samples per run) above which the program asks
 /// first (or needs `--yes`).
 pub const MAX_SWEEP_SAMPLES: u64 = 100_000_000;
@@ -55,22 +59,62 @@ pub fn run_too_large(entry: &Entry, plan: &RunPlan) -> Option<String> {
     })
 }
 
-/// As [`run_too_large`] for a sweep: too many runs, or too many samples in all.
-pub fn sweep_too_large(plan: &SweepPlan) -> Option<String> {
+/// As [`run_too_large`] for a sweep: too many runs or samples in all, or an estimated
+/// time over [`MAX_SWEEP_SECONDS`]. The time is measured: the first point is run over
+/// its first [`PROBE_SAMPLES`] samples, and the time scaled to every sample of every
+/// run, spread over rayon's threads.
+pub fn sweep_too_large(entry: &Entry, plan: &SweepPlan) -> Option<String> {
     let runs = plan.points().len();
     let per_run = plan.base.times.len() as u64;
     let samples = runs as u64 * per_run;
-    (runs > MAX_SWEEP_RUNS || samples > MAX_SWEEP_SAMPLES).then(|| {
-        format!(
-            "this sweep has {} runs of {} samples each, {} samples to integrate in all \
-             (the program runs at most {} runs or {} samples without asking)",
-            thousands(runs as u64),
-            thousands(per_run),
-            thousands(samples),
-            thousands(MAX_SWEEP_RUNS as u64),
-            thousands(MAX_SWEEP_SAMPLES)
-        )
-    })
+    let threads = rayon::current_num_threads().max(1);
+    let seconds =
+        probe_seconds_per_sample(entry, plan).map(|s| s * samples as f64 / threads as f64);
+    let too_long = seconds.is_some_and(|s| s > MAX_SWEEP_SECONDS);
+    if runs <= MAX_SWEEP_RUNS && samples <= MAX_SWEEP_SAMPLES && !too_long {
+        return None;
+    }
+    let time = seconds
+        .map(|s| format!(", about {} on {threads} threads", format_duration(s)))
+        .unwrap_or_default();
+    Some(format!(
+        "this sweep has {} runs of {} samples each, {} samples to integrate in all{time} \
+         (the program runs at most {} runs, {} samples or {} without asking)",
+        thousands(runs as u64),
+        thousands(per_run),
+        thousands(samples),
+        thousands(MAX_SWEEP_RUNS as u64),
+        thousands(MAX_SWEEP_SAMPLES),
+        format_duration(MAX_SWEEP_SECONDS)
+    ))
+}
+
+/// How many samples of the first point the time estimate of a sweep integrates.
+pub const PROBE_SAMPLES: usize = 2000;
+
+/// Wall time per sample of the sweep's first point over its first samples, s; `None`
+/// when the probe fails.
+fn probe_seconds_per_sample(entry: &Entry, plan: &SweepPlan) -> Option<f64> {
+    let first = plan.points().into_iter().next()?;
+    let mut probe = plan.plan_at(&first);
+    probe.times.truncate(PROBE_SAMPLES);
+    let started = std::time::Instant::now();
+    entry
+        .model
+        .sweep_point(&probe, &plan.metrics, plan.window, &super::Silent)
+        .ok()?;
+    Some(started.elapsed().as_secs_f64() / probe.times.len().max(1) as f64)
+}
+
+/// `3.2 s`, `12 min`, `4.5 h`.
+pub fn format_duration(seconds: f64) -> String {
+    if seconds < 60.0 {
+        format!("{seconds:.1} s")
+    } else if seconds < 3600.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
+    }
 }
 
 /// `1.3 GB`, `420 MB`, `12 kB`, `512 B` (decimal units).
@@ -96,5 +140,8 @@ mod tests {
         assert_eq!(format_bytes(1_344_000_000), "1.3 GB");
         assert_eq!(format_bytes(420_400_000), "420 MB");
         assert_eq!(format_bytes(999), "999 B");
+        assert_eq!(format_duration(3.25), "3.2 s");
+        assert_eq!(format_duration(720.0), "12 min");
+        assert_eq!(format_duration(16200.0), "4.5 h");
     }
 }

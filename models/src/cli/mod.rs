@@ -126,8 +126,8 @@ pub struct RunArgs {
     #[arg(long)]
     pub no_plots: bool,
     /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
-    /// or a sweep has more than 1000 runs or 1e8 samples in all; without it the
-    /// program asks at a terminal and refuses otherwise.
+    /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
+    /// without it the program asks at a terminal and refuses otherwise.
     #[arg(long)]
     pub yes: bool,
 }

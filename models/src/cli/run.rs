@@ -58,12 +58,14 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     .map_err(Failure::Invalid)?;
 
+    // The size guard (`--yes` skips it, and the sweep's timing probe with it).
     let too_large = match &plan.job {
+        _ if args.yes => None,
         Job::Run(run) => size::run_too_large(plan.entry, run),
-        Job::Sweep(sweep) => size::sweep_too_large(sweep),
+        Job::Sweep(sweep) => size::sweep_too_large(plan.entry, sweep),
     };
     if let Some(estimate) = too_large {
-        confirm(&estimate, args.yes)?;
+        confirm(&estimate)?;
     }
 
     install_interrupt_handler();
@@ -107,13 +109,10 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
     }
 }
 
-/// Lets a run that the size guard stops go on: with `--yes`, or when the user says so
-/// at a terminal (stdin and stderr both terminals); otherwise a usage error that says
-/// what the estimate is and how to allow it.
-fn confirm(estimate: &str, yes: bool) -> Result<(), Failure> {
-    if yes {
-        return Ok(());
-    }
+/// Lets a run that the size guard stops go on when the user says so at a terminal
+/// (stdin and stderr both terminals); otherwise a usage error that says what the
+/// estimate is and how to allow it (`--yes`).
+fn confirm(estimate: &str) -> Result<(), Failure> {
     let refused = || Failure::Usage(format!("{estimate}; pass --yes to run it all the same"));
     if !(std::io::stdin().is_terminal() && std::io::stderr().is_terminal()) {
         return Err(refused());
