@@ -54,6 +54,7 @@ impl RunFolder {
             source,
         })?;
         remove_abandoned(&parent, &name);
+        remove_abandoned(&parent, &format!("{name}.partial"));
         let staging_path = parent.join(format!(".{name}.staging-{}", std::process::id()));
         let staging = Temporary::register(staging_path.clone());
         let io_error = |action, source| RunError::Io {
