@@ -40,25 +40,37 @@
 //! each metric: the largest magnitude over the window), one chart per metric
 //! (`sweep_peak_<name>.png`, `.svg`) and `index.html`; no per-run results.
 //!
-//! Every file is written whole or not at all: into a temporary file in the same
-//! directory, synced and renamed into place.
+//! # Results folders
 //!
-//! # Partial runs and stale files
+//! A run's files (its results CSVs, figures, `index.html`) form one set, and an output
+//! folder only ever holds one complete set ([`folder::RunFolder`]):
 //!
-//! A run that fails part-way (a solver error, its step or wall-time budget used up, a
-//! Ctrl-C) still writes what it computed: each results file gets `.partial` before its
-//! extension (`quick_return.partial.csv`), its figures are drawn from the samples it
-//! has, and its summary (printed, and in `index.html`) starts with `PARTIAL RUN` and
-//! the reason; the [`Outcome`] carries the failure. A sweep with failed (or, after a
-//! Ctrl-C, unrun) points writes them as `NaN`, lists them in its summary and writes
-//! `sweep.partial.csv`.
+//! - The run writes the whole set into a fresh staging folder beside the destination,
+//!   `.<name>.staging-<pid>` (created before the integration starts), and when every
+//!   file is written and synced, swaps it in for the destination (on Linux atomically,
+//!   with `renameat2(RENAME_EXCHANGE)`; elsewhere the old folder is renamed aside to
+//!   `.<name>.old-<pid>` first and renamed back if the second rename fails), then removes
+//!   the set it replaced. So no file of an earlier run survives beside the new one.
+//! - A run that fails or is interrupted part-way (a solver error, its step or wall-time
+//!   budget used up, a signal while integrating, writing or drawing) leaves the
+//!   destination untouched and commits its partial set the same way to the sibling
+//!   folder `<name>.partial/` (replacing an earlier partial set whole; a later successful
+//!   run leaves it alone). Its figures are drawn from the samples it has (none if it
+//!   was interrupted while drawing), and its summary (printed, and in `index.html`)
+//!   starts with `PARTIAL RUN` and the reason; the [`Outcome`] carries the failure. A
+//!   sweep with failed (or, after an interrupt, unrun) points writes them as `NaN`,
+//!   lists them in its summary and is committed to `<name>.partial/` too.
+//! - A run that cannot write its set (a full disk, a read-only folder) removes its
+//!   staging folder and leaves both folders as they were.
+//! - The program replaces only folders it wrote itself: each holds the marker file
+//!   `.models-results` ([`folder::MARKER`]). An output folder that exists, is not empty
+//!   and has no marker is refused before anything runs ([`RunError::NotOurs`]).
+//! - Staging folders left by a process killed outright (SIGKILL) are removed by the
+//!   next run into the same parent folder.
 //!
-//! The results files and `index.html` in an output directory always come from the
-//! latest run there: a complete run removes a `.partial.csv` of the same name left by
-//! an earlier run, a partial run removes the complete `.csv` of an earlier one, and a
-//! quick return run that records no extra columns removes an earlier
-//! `quick_return_extra*.csv`. Figure files are overwritten by the run that draws them;
-//! a figure file that the latest `index.html` does not show is from an earlier run.
+//! Within the staging folder every file is also written whole or not at all: into a
+//! temporary file, synced and renamed into place. What signals do is described in
+//! [`crate::interrupt`].
 //!
 //! # Example
 //!
@@ -77,9 +89,11 @@ mod adapter;
 mod checks;
 mod columns;
 mod figures;
+pub mod folder;
 mod params;
 mod physics;
 mod run;
+pub mod size;
 mod sweep;
 
 use core::fmt;

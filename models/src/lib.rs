@@ -16,6 +16,7 @@ pub mod control;
 pub mod dc_motor;
 pub mod dc_servo;
 pub mod duffing;
+pub mod interrupt;
 pub mod oscillator;
 pub mod plot;
 pub mod provenance;

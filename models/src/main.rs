@@ -4,9 +4,10 @@
 //! parameters: writes `out/quick_return/quick_return.csv` (the spec's results file),
 //! the paper's figures and `index.html`, and prints a summary.
 //!
-//! Exit status: 0 success; 1 a run failed part-way (partial results written, marked
-//! `.partial`) or output could not be written; 2 a usage or validation error (nothing
-//! written).
+//! Exit status: 0 success; 1 a run failed or was interrupted part-way (its partial set
+//! written to `<out>.partial/`, `<out>` untouched) or output could not be written; 2 a
+//! usage or validation error (nothing written); 130 a second signal (see
+//! [`models::cli`]).
 
 use std::process::ExitCode;
 

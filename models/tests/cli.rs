@@ -1,7 +1,7 @@
 //! End-to-end tests of the `models` binary: its commands, every shipped scenario (with
 //! a short end time), each kind of bad scenario (the error names the line; nothing is
-//! written; exit status 2), and runs that fail or are interrupted part-way (a partial
-//! file, correctly named; exit status 1). Outputs are checked for substance: the
+//! written; exit status 2); runs that fail or are interrupted part-way are in
+//! `results_sets.rs`. Outputs are checked for substance: the
 //! results file's header is the spec's, its rows are the samples asked for, and every
 //! image decodes, has the expected size and is not blank.
 
@@ -12,7 +12,7 @@ use std::path::Path;
 
 use common::{check_png, files, run, run_in, scenarios_dir, scratch, Csv};
 use models::quick_return::figures::FIGURE_IDS;
-use models::quick_return::results::{header as spec_header, N_ROWS};
+use models::quick_return::results::header as spec_header;
 
 /// The width of every chart.
 const WIDTH: u32 = models::plot::WIDTH;
@@ -504,142 +504,6 @@ fn rejects_bad_flags_without_writing() {
     let out = run(&["frobnicate"]);
     assert_eq!(out.code, Some(2), "clap's usage errors exit with 2");
     assert!(!out_dir.exists());
-}
-
-/// A quick return scenario whose step budget runs out at about 6 ms.
-const BUDGET: &str = "model: quick_return\nsolver:\n  method: radau5\n  max_steps: 50\n";
-
-#[test]
-fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
-    let dir = scratch("partial");
-    fs::write(dir.join("budget.yaml"), BUDGET).unwrap();
-    let out_dir = dir.join("out");
-    let out_arg = out_dir.to_str().unwrap();
-
-    // A complete run first: its results are stale once a later run fails.
-    let complete = run_in(
-        &dir,
-        &[
-            "run",
-            "quick_return",
-            "--t-end",
-            "0.05",
-            "--no-plots",
-            "--out",
-            out_arg,
-        ],
-    );
-    assert_success(&complete);
-    assert_eq!(
-        files(&out_dir),
-        ["index.html", "quick_return.csv", "run.yaml"]
-    );
-
-    let failed = run_in(
-        &dir,
-        &["run", "budget.yaml", "--no-plots", "--out", out_arg],
-    );
-    assert_eq!(failed.code, Some(1), "stderr:\n{}", failed.stderr);
-    assert_eq!(
-        files(&out_dir),
-        ["index.html", "quick_return.partial.csv", "run.yaml"]
-    );
-    let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
-    assert_eq!(csv.header.join(","), spec_header());
-    assert!(
-        !csv.rows.is_empty() && csv.rows.len() < N_ROWS,
-        "{} rows",
-        csv.rows.len()
-    );
-    let t = csv.column("t");
-    assert_eq!(t[0], 0.0);
-    assert!(t.windows(2).all(|w| w[1] > w[0]));
-    assert!(
-        failed.stdout.starts_with("PARTIAL RUN"),
-        "{}",
-        failed.stdout
-    );
-    assert!(failed.stdout.contains("quick_return.partial.csv"));
-    assert!(failed
-        .stdout
-        .contains(&format!("({} rows, 56 columns, partial)", csv.rows.len())));
-    let message = failed.stderr.trim();
-    assert_eq!(message.lines().count(), 1, "{message}");
-    assert!(
-        message.contains("the budget of 50 steps was used up"),
-        "{message}"
-    );
-    assert!(message.ends_with("quick_return.partial.csv"), "{message}");
-    let index = fs::read_to_string(out_dir.join("index.html")).unwrap();
-    assert!(index.contains("PARTIAL RUN"));
-
-    // A complete run removes the stale partial file.
-    let again = run_in(
-        &dir,
-        &[
-            "run",
-            "quick_return",
-            "--t-end",
-            "0.05",
-            "--no-plots",
-            "--out",
-            out_arg,
-        ],
-    );
-    assert_success(&again);
-    assert_eq!(
-        files(&out_dir),
-        ["index.html", "quick_return.csv", "run.yaml"]
-    );
-}
-
-#[cfg(unix)]
-#[test]
-fn an_interrupted_run_writes_what_it_computed() {
-    use std::process::{Command, Stdio};
-    use std::time::Duration;
-
-    let dir = scratch("interrupt");
-    let out_dir = dir.join("out");
-    let child = Command::new(common::BIN)
-        .args([
-            "run",
-            "quick_return",
-            "--t-end",
-            "2000",
-            "--no-plots",
-            "--out",
-        ])
-        .arg(&out_dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
-    let signalled = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(signalled.success());
-    let out: common::Run = child.wait_with_output().unwrap().into();
-    assert_eq!(out.code, Some(1), "stderr:\n{}", out.stderr);
-    assert!(
-        out.stderr.contains("interrupted after the sample at t = "),
-        "{}",
-        out.stderr
-    );
-    assert_eq!(
-        files(&out_dir),
-        ["index.html", "quick_return.partial.csv", "run.yaml"]
-    );
-    let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
-    assert_eq!(csv.header.join(","), spec_header());
-    assert!(csv.rows.len() > 1);
-    assert!(
-        out.stdout.starts_with("PARTIAL RUN   interrupted"),
-        "{}",
-        out.stdout
-    );
 }
 
 #[test]

@@ -488,11 +488,11 @@ fn a_failed_run_records_why() {
     .unwrap();
     let out = run_in(&dir, &["run", "budget.yaml", "--no-plots"]);
     assert_eq!(out.code, Some(1), "{}", out.stderr);
-    let r = record(&dir.join("out/budget"));
+    let r = record(&dir.join("out/budget.partial"));
     assert_eq!(r.outcome.status, "partial");
     let reason = r.outcome.reason.unwrap_or_default();
     assert!(reason.contains("budget of 50 steps"), "{reason}");
     assert_eq!(r.solver.max_steps, 50);
-    assert_eq!(r.results, ["quick_return.partial.csv"]);
+    assert_eq!(r.results, ["quick_return.csv"]);
     assert_eq!(r.output.interval, Some(0.001));
 }

@@ -19,8 +19,37 @@ pub fn figure_ids() -> &'static [&'static str] {
     FIGURE_IDS
 }
 
+/// An image that cannot be drawn or written (a full disk: the PNG encoder reports it as
+/// a drawing error) is an I/O error, and the set is abandoned; any other failure (no
+/// font) leaves the results and the index without figures.
 fn plot_error(e: PlotError) -> RunError {
-    RunError::Figures(e.to_string())
+    match e {
+        PlotError::Io {
+            path,
+            action,
+            source,
+        } => RunError::Io {
+            path,
+            action,
+            source,
+        },
+        PlotError::Draw { path, message } => RunError::Io {
+            path,
+            action: "drawing",
+            source: std::io::Error::other(message),
+        },
+        other => RunError::Figures(other.to_string()),
+    }
+}
+
+/// An error once a signal asked the program to stop ([`crate::interrupt`]): drawing
+/// stops between charts.
+fn stop_if_interrupted() -> Result<(), RunError> {
+    if crate::interrupt::requested() {
+        Err(plot_error(PlotError::Interrupted))
+    } else {
+        Ok(())
+    }
 }
 
 /// The paper's figures (and the extras) from a quick return run.
@@ -70,6 +99,7 @@ pub(super) fn trajectory(
         if !wanted || table.len() < 2 {
             continue;
         }
+        stop_if_interrupted()?;
         let chart = LineChart {
             title: format!(
                 "{} ({}): {name} against time",
@@ -120,6 +150,7 @@ pub(super) fn sweep(
     };
     let mut drawn = Vec::new();
     for (m, metric) in plan.metrics.iter().enumerate() {
+        stop_if_interrupted()?;
         let series = match plan.axes.get(1) {
             None => vec![Series::new(
                 metric.label(),

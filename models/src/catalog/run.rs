@@ -1,11 +1,11 @@
 //! Running a model of the catalogue into files: what to run ([`RunPlan`]), who watches
 //! ([`Observer`]), what came of it ([`Outcome`]) and what can stop it ([`RunError`]).
-//! The files a run writes, and the partial-file rule, are described in the
+//! The files a run writes, and the results-folder rule, are described in the
 //! [catalogue's documentation](crate::catalog).
 
 use core::fmt;
 use std::io;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -15,6 +15,7 @@ use serde_yaml::{Mapping, Value};
 
 use super::columns::{all_columns, Table};
 use super::figures;
+use super::folder::RunFolder;
 use super::params::format_significant;
 use super::{Catalogued, Column, Entry, ResultsKind};
 use crate::provenance::{self, Context};
@@ -22,6 +23,7 @@ use crate::quick_return::results::{Results, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
 use crate::quick_return::QuickReturnParams;
+use crate::report::INDEX_FILE;
 
 /// Which figures a run draws.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -150,6 +152,14 @@ pub enum RunError {
     Figures(String),
     /// A point of a sweep was not run: the sweep was interrupted first.
     NotRun,
+    /// The output folder is not the program's to replace (see
+    /// [`RunFolder`](super::folder::RunFolder)); nothing was written.
+    NotOurs {
+        /// The folder.
+        path: PathBuf,
+        /// Why not, and what to do.
+        reason: String,
+    },
 }
 
 impl fmt::Display for RunError {
@@ -166,6 +176,9 @@ impl fmt::Display for RunError {
             RunError::Results(e) => write!(f, "{e}"),
             RunError::Figures(message) => write!(f, "drawing the figures failed: {message}"),
             RunError::NotRun => f.write_str("not run: the sweep was interrupted"),
+            RunError::NotOurs { path, reason } => {
+                write!(f, "the output folder `{}` {reason}", path.display())
+            }
         }
     }
 }
@@ -177,7 +190,10 @@ impl std::error::Error for RunError {
             RunError::Io { source, .. } => Some(source),
             RunError::Csv(e) => Some(e),
             RunError::Results(e) => Some(e),
-            RunError::Params(_) | RunError::Figures(_) | RunError::NotRun => None,
+            RunError::Params(_)
+            | RunError::Figures(_)
+            | RunError::NotRun
+            | RunError::NotOurs { .. } => None,
         }
     }
 }
@@ -232,48 +248,12 @@ pub(super) fn failure_text(solver: &Solver, error: &SolverError) -> String {
     }
 }
 
-/// `stem.csv`, or `stem.partial.csv` for a partial run.
-pub(super) fn results_path(dir: &Path, stem: &str, partial: bool) -> PathBuf {
-    dir.join(if partial {
-        format!("{stem}.partial.csv")
-    } else {
-        format!("{stem}.csv")
-    })
-}
-
-/// Removes `path` if it exists.
-pub(super) fn remove_stale(path: &Path) -> Result<(), RunError> {
-    match std::fs::remove_file(path) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(RunError::Io {
-            path: path.to_path_buf(),
-            action: "removing the stale file",
-            source: e,
-        }),
-        _ => Ok(()),
-    }
-}
-
-/// Writes a results file under the partial-file rule: `stem.csv` or
-/// `stem.partial.csv`, removing the other.
-fn write_results(
-    dir: &Path,
-    stem: &str,
-    partial: bool,
-    write: impl FnOnce(&Path) -> Result<(), RunError>,
-) -> Result<PathBuf, RunError> {
-    let path = results_path(dir, stem, partial);
-    write(&path)?;
-    remove_stale(&results_path(dir, stem, !partial))?;
-    Ok(path)
-}
-
-/// Creates the output directory.
-pub(super) fn create_dir(dir: &Path) -> Result<(), RunError> {
-    std::fs::create_dir_all(dir).map_err(|source| RunError::Io {
-        path: dir.to_path_buf(),
-        action: "creating the output directory",
-        source,
-    })
+/// Why a run that integrated to its end is partial all the same: it was interrupted
+/// while writing its files or drawing.
+pub(super) fn interrupted_after_integrating(observer: &dyn Observer) -> Option<String> {
+    observer
+        .stop_requested()
+        .then(|| "interrupted while writing the results and drawing the figures".to_owned())
 }
 
 /// What the integration produced.
@@ -343,13 +323,13 @@ where
     if let Some(t) = table.as_mut() {
         recorders.push(t);
     }
+    let folder = RunFolder::begin(&plan.out_dir)?;
     let run = integrate(&model, plan, recorders, observer)?;
-    let failure = run.error.as_ref().map(|e| failure_text(&plan.solver, e));
-    let partial = failure.is_some();
+    let mut failure = run.error.as_ref().map(|e| failure_text(&plan.solver, e));
 
-    create_dir(&plan.out_dir)?;
-    let dir = plan.out_dir.as_path();
-    let mut files = Vec::new();
+    let dir = folder.path();
+    // The results files' names, written into the staging folder.
+    let mut results_files = Vec::new();
     let writing = Instant::now();
     let stem = if quick {
         FILE_NAME.trim_end_matches(".csv")
@@ -357,27 +337,54 @@ where
         entry.name
     };
     if let Some(results) = &results {
-        files.push(write_results(dir, stem, partial, |path| {
-            results.write_csv(path).map_err(RunError::Results)
-        })?);
+        let name = format!("{stem}.csv");
+        results
+            .write_csv(dir.join(&name))
+            .map_err(RunError::Results)?;
+        results_files.push(name);
     }
-    let table_stem = if quick {
-        format!("{stem}_extra")
-    } else {
-        stem.to_owned()
-    };
-    match &table {
-        Some(table) => files.push(write_results(dir, &table_stem, partial, |path| {
-            table.write_csv(path).map_err(RunError::from)
-        })?),
-        None => {
-            remove_stale(&results_path(dir, &table_stem, false))?;
-            remove_stale(&results_path(dir, &table_stem, true))?;
-        }
+    if let Some(table) = &table {
+        let name = if quick {
+            format!("{stem}_extra.csv")
+        } else {
+            format!("{stem}.csv")
+        };
+        table.write_csv(&dir.join(&name))?;
+        results_files.push(name);
     }
     let write_time = writing.elapsed();
-    let run_record = provenance::write_run(dir, entry, plan, &files, failure.as_deref())?;
 
+    let plotting = Instant::now();
+    let drawing = if failure.is_none() && observer.stop_requested() {
+        Ok(Vec::new())
+    } else {
+        match (&plan.plots, &results, &table) {
+            (Plots::None, _, _) => Ok(Vec::new()),
+            (plots, Some(results), _) => params_from::<QuickReturnParams>(&plan.params)
+                .and_then(|params| figures::quick_return(results, &params, dir, plots)),
+            (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
+            (_, None, None) => Ok(Vec::new()),
+        }
+    };
+    if failure.is_none() {
+        failure = interrupted_after_integrating(observer);
+    }
+    let partial = failure.is_some();
+    // The results are written: a failure to draw still leaves the summary and the
+    // index, and is reported beside them (an interrupted drawing is a partial run).
+    let (drawn, figures_error) = match drawing {
+        Ok(drawn) => (drawn, None),
+        // A file that cannot be written (a full disk): the set is abandoned.
+        Err(e @ RunError::Io { .. }) => return Err(e),
+        Err(_) if partial => (Vec::new(), None),
+        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
+        Err(other) => (Vec::new(), Some(other.to_string())),
+    };
+    let plotting = plotting.elapsed();
+
+    // The summary names the files where they will be once committed.
+    let target = folder.target(partial);
+    let results_paths: Vec<PathBuf> = results_files.iter().map(|n| target.join(n)).collect();
     let mut summary = match &results {
         Some(results) => {
             let recorded = Recorded {
@@ -393,7 +400,7 @@ where
                 _ => (0.0, 0.0),
             };
             let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
-            summary.file = Some((files[0].clone(), write_time));
+            summary.file = Some((results_paths[0].clone(), write_time));
             summary.failure = failure.clone();
             summary.overrides = Some(provenance::summary_lines(entry, plan, &[]));
             summary.to_string()
@@ -403,7 +410,7 @@ where
             plan,
             &run,
             table.as_ref(),
-            &files,
+            &results_paths,
             write_time,
             &failure,
         ),
@@ -411,47 +418,39 @@ where
     if table.is_some() && quick {
         summary.push_str(&format!(
             "extra columns  {}\n",
-            files
+            results_paths
                 .last()
                 .map(|p| p.display().to_string())
                 .unwrap_or_default()
         ));
     }
-
-    let plotting = Instant::now();
-    let drawing = match (&plan.plots, &results, &table) {
-        (Plots::None, _, _) => Ok(Vec::new()),
-        (plots, Some(results), _) => params_from::<QuickReturnParams>(&plan.params)
-            .and_then(|params| figures::quick_return(results, &params, dir, plots)),
-        (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
-        (_, None, None) => Ok(Vec::new()),
-    };
-    // The results are written: a failure to draw still leaves the summary and the
-    // index, and is reported beside them.
-    let (drawn, figures_error) = match drawing {
-        Ok(drawn) => (drawn, None),
-        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
-        Err(other) => (Vec::new(), Some(other.to_string())),
-    };
     let figure_files = drawn.iter().map(|f| f.files.len()).sum::<usize>();
     if !drawn.is_empty() {
         summary.push_str(&format!(
             "figures        {} figures ({figure_files} files) in {:.0} ms\n",
             drawn.len(),
-            plotting.elapsed().as_secs_f64() * 1e3
+            plotting.as_secs_f64() * 1e3
         ));
     }
-    let index = figures::index(dir, &plan.title, &summary, &drawn)?;
-    files.extend(drawn.into_iter().flat_map(|f| f.files));
-    files.push(run_record);
-    files.push(index);
+    summary.push_str(&format!(
+        "report         {}\n",
+        target.join(INDEX_FILE).display()
+    ));
+    provenance::write_run(dir, entry, plan, &results_paths, failure.as_deref())?;
+    figures::index(dir, &plan.title, &summary, &drawn)?;
+    let target = folder.commit(partial)?;
+    let in_target = |path: &PathBuf| target.join(path.file_name().unwrap_or_default());
+    let mut files = results_paths;
+    files.extend(drawn.iter().flat_map(|f| f.files.iter().map(in_target)));
+    files.push(target.join(provenance::FILE_NAME));
+    files.push(target.join(INDEX_FILE));
     Ok(Outcome {
         summary,
         files,
         failure,
         figures_error,
         integration: run.wall,
-        plotting: plotting.elapsed(),
+        plotting,
     })
 }
 

@@ -11,10 +11,12 @@ use bgdsl_runtime::Recorder;
 use rayon::prelude::*;
 use serde_yaml::Value;
 
+use super::folder::RunFolder;
 use super::params::{format_number, format_significant};
-use super::run::{create_dir, remove_stale, results_path, Observer};
+use super::run::{interrupted_after_integrating, Observer};
 use super::{figures, Column, Entry, RunError, RunPlan};
 use crate::provenance;
+use crate::report::INDEX_FILE;
 
 /// One swept parameter and its values.
 #[derive(Clone, Debug, PartialEq)]
@@ -164,8 +166,10 @@ impl Observer for PointObserver<'_> {
     }
 }
 
-/// Runs the sweep on rayon's pool and writes `sweep.csv` (or `sweep.partial.csv`), its
-/// charts and `index.html` into the base plan's output directory.
+/// Runs the sweep on rayon's pool and writes `sweep.csv`, its charts and `index.html`
+/// as one set into the base plan's output folder (or, when points failed or were not
+/// run, into its `.partial` sibling; see the [catalogue's
+/// documentation](crate::catalog#results-folders)).
 ///
 /// # Errors
 ///
@@ -177,6 +181,7 @@ pub fn run_sweep(
     observer: &dyn Observer,
 ) -> Result<SweepOutcome, RunError> {
     let points = plan.points();
+    let folder = RunFolder::begin(&plan.base.out_dir)?;
     observer.sweep_started(points.len());
     let started = Instant::now();
     let results: Vec<Result<Vec<f64>, RunError>> = points
@@ -201,7 +206,7 @@ pub fn run_sweep(
         .enumerate()
         .filter_map(|(i, r)| r.as_ref().err().map(|e| (i, e.to_string())))
         .collect();
-    let failure = (!failures.is_empty()).then(|| {
+    let mut failure = (!failures.is_empty()).then(|| {
         format!(
             "{} of {} points failed or were not run",
             failures.len(),
@@ -216,17 +221,15 @@ pub fn run_sweep(
         })
         .collect();
 
-    let dir = plan.base.out_dir.as_path();
-    create_dir(dir)?;
-    let partial = failure.is_some();
-    let path = results_path(dir, "sweep", partial);
+    let dir = folder.path();
+    let table_name = "sweep.csv";
     let header: Vec<String> = plan
         .axes
         .iter()
         .map(|a| a.name.clone())
         .chain(plan.metrics.iter().map(Metric::column_name))
         .collect();
-    write_atomically(&path, |out| {
+    write_atomically(&dir.join(table_name), |out| {
         writeln!(out, "{}", header.join(","))?;
         for (point, values) in points.iter().zip(&rows) {
             for (i, v) in point.iter().chain(values).enumerate() {
@@ -239,14 +242,26 @@ pub fn run_sweep(
         }
         Ok(())
     })?;
-    remove_stale(&results_path(dir, "sweep", !partial))?;
-    let run_record = provenance::write_sweep(
-        dir,
-        entry,
-        plan,
-        std::slice::from_ref(&path),
-        failure.as_deref(),
-    )?;
+
+    let drawing = if plan.base.plots == super::Plots::None || observer.stop_requested() {
+        Ok(Vec::new())
+    } else {
+        figures::sweep(plan, &points, &rows, dir)
+    };
+    if failure.is_none() {
+        failure = interrupted_after_integrating(observer);
+    }
+    let partial = failure.is_some();
+    let (drawn, figures_error) = match drawing {
+        Ok(drawn) => (drawn, None),
+        // A file that cannot be written (a full disk): the set is abandoned.
+        Err(e @ RunError::Io { .. }) => return Err(e),
+        Err(_) if partial => (Vec::new(), None),
+        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
+        Err(other) => (Vec::new(), Some(other.to_string())),
+    };
+    let target = folder.target(partial);
+    let path = target.join(table_name);
 
     let mut summary = String::new();
     if let Some(failure) = &failure {
@@ -315,20 +330,27 @@ pub fn run_sweep(
         let _ = writeln!(summary, "  at {}: {message}", coordinates.join(", "));
     }
 
-    let mut files = vec![path, run_record];
-    let drawing = if plan.base.plots == super::Plots::None {
-        Ok(Vec::new())
-    } else {
-        figures::sweep(plan, &points, &rows, dir)
-    };
-    let (drawn, figures_error) = match drawing {
-        Ok(drawn) => (drawn, None),
-        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
-        Err(other) => (Vec::new(), Some(other.to_string())),
-    };
-    let index = figures::index(dir, &plan.base.title, &summary, &drawn)?;
-    files.extend(drawn.into_iter().flat_map(|f| f.files));
-    files.push(index);
+    let _ = writeln!(
+        summary,
+        "report         {}",
+        target.join(INDEX_FILE).display()
+    );
+    provenance::write_sweep(
+        dir,
+        entry,
+        plan,
+        std::slice::from_ref(&path),
+        failure.as_deref(),
+    )?;
+    figures::index(dir, &plan.base.title, &summary, &drawn)?;
+    let target = folder.commit(partial)?;
+    let mut files = vec![path, target.join(provenance::FILE_NAME)];
+    files.extend(drawn.iter().flat_map(|f| {
+        f.files
+            .iter()
+            .map(|p| target.join(p.file_name().unwrap_or_default()))
+    }));
+    files.push(target.join(INDEX_FILE));
     Ok(SweepOutcome {
         summary,
         files,

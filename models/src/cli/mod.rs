@@ -6,7 +6,7 @@
 //! models params <model> [--states] [--outputs]
 //!                                         parameters with defaults, units and docs
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
-//!            [--solver NAME] [--rtol X] [--atol X] [--t-end X] [--no-plots]
+//!            [--solver NAME] [--rtol X] [--atol X] [--t-end X] [--no-plots] [--yes]
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -15,9 +15,9 @@
 //! | status | meaning |
 //! |---|---|
 //! | 0 | success |
-//! | 1 | the run failed or was interrupted (its partial results are written, marked `.partial`), or a file could not be written, or `dot` failed |
-//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error; nothing was written |
-//! | 130 | a second Ctrl-C during a run |
+//! | 1 | the run failed or was interrupted (a first SIGINT, SIGTERM or SIGHUP): its partial set is in `<out>.partial/` and `<out>` is untouched; or the set could not be written (nothing changed), or `dot` failed |
+//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`; nothing was written |
+//! | 130 | a second signal (SIGINT, SIGTERM or SIGHUP) during a run: the staging folder is removed, `<out>` and `<out>.partial/` are untouched |
 //!
 //! Errors go to stderr, one line each (a scenario with several errors gives several
 //! lines, each `file:line:column: message`); summaries go to stdout.
@@ -46,9 +46,10 @@ pub use progress::{install_interrupt_handler, Progress};
     about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.",
     long_about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.\n\n\
         Without a command, runs the flagship (the quick return mechanism, 0-5 s) and writes \
-        out/quick_return/.\n\nExit status: 0 success; 1 the run failed part-way (partial \
-        results written) or output could not be written; 2 usage or validation error \
-        (nothing written)."
+        out/quick_return/.\n\nExit status: 0 success; 1 the run failed part-way or was \
+        interrupted (partial results in <out>.partial/, <out> untouched) or output could \
+        not be written; 2 usage or validation error (nothing written); 130 a second \
+        SIGINT/SIGTERM (nothing temporary left)."
 )]
 pub struct Cli {
     /// What to do (default: run the quick return mechanism).
@@ -133,6 +134,11 @@ pub struct RunArgs {
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,
+    /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
+    /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
+    /// without it the program asks at a terminal and refuses otherwise.
+    #[arg(long)]
+    pub yes: bool,
 }
 
 /// Why a command did not succeed; [`Failure::exit_code`] maps it to the exit status.
@@ -159,7 +165,7 @@ impl Failure {
     /// The exit status: 2 for usage and validation errors, 1 for the rest.
     pub fn exit_code(&self) -> u8 {
         match self {
-            Failure::Usage(_) | Failure::Invalid(_) => 2,
+            Failure::Usage(_) | Failure::Invalid(_) | Failure::Run(RunError::NotOurs { .. }) => 2,
             Failure::Run(_) | Failure::Partial { .. } | Failure::Other(_) => 1,
         }
     }
@@ -174,7 +180,11 @@ impl fmt::Display for Failure {
             Failure::Partial { reason, file } => {
                 write!(f, "{reason}")?;
                 if let Some(file) = file {
-                    write!(f, "; partial results in {}", file.display())?;
+                    write!(
+                        f,
+                        "; partial results in {} (the output folder was left as it was)",
+                        file.display()
+                    )?;
                 }
                 Ok(())
             }

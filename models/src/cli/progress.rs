@@ -1,6 +1,6 @@
 //! The progress bar of runs and sweeps (on stderr, only when it is a terminal, and
-//! only once a run has taken more than a moment), and the Ctrl-C handler that asks a
-//! run to stop and keep what it computed.
+//! only once a run has taken more than a moment), and the installation of the signal
+//! handler ([`crate::interrupt`]) that asks a run to stop and keep what it computed.
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -11,19 +11,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::catalog::Observer;
 
-/// Set by the first Ctrl-C; runs stop at their next sample and write what they have.
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-/// Installs the Ctrl-C handler: the first Ctrl-C asks the run to stop (it then writes
-/// its partial results and the program exits with status 1); a second one exits at
-/// once with status 130, possibly leaving a temporary file beside a result. Does
-/// nothing if a handler cannot be installed.
+/// Installs the handler of SIGINT (Ctrl-C), SIGTERM and SIGHUP: the first signal asks
+/// the run to stop (it then commits its partial set and the program exits with status
+/// 1); a second one removes the staging folder and exits at once with status 130 (see
+/// [`crate::interrupt`]). Does nothing if a handler cannot be installed.
 pub fn install_interrupt_handler() {
-    let _ = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-    });
+    crate::interrupt::install_handler();
 }
 
 /// How long a run goes before its bar appears.
@@ -125,6 +118,6 @@ impl Observer for Progress {
     }
 
     fn stop_requested(&self) -> bool {
-        INTERRUPTED.load(Ordering::Relaxed)
+        crate::interrupt::requested()
     }
 }

@@ -1,12 +1,13 @@
 //! `models run`: a model with its defaults, or a scenario file, with the command line's
 //! overrides; validated whole before anything is written.
 
+use std::io::{BufRead, IsTerminal, Write};
 use std::path::Path;
 
 use super::info::print;
 use super::progress::{install_interrupt_handler, Progress};
 use super::{Failure, RunArgs};
-use crate::catalog::run_sweep;
+use crate::catalog::{run_sweep, size};
 use crate::scenario::{self, resolve, Job, Origin, Overrides, Scenario};
 
 /// Whether the target names a scenario file rather than a model.
@@ -60,6 +61,16 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     .map_err(Failure::Invalid)?;
 
+    // The size guard (`--yes` skips it, and the sweep's timing probe with it).
+    let too_large = match &plan.job {
+        _ if args.yes => None,
+        Job::Run(run) => size::run_too_large(plan.entry, run),
+        Job::Sweep(sweep) => size::sweep_too_large(plan.entry, sweep),
+    };
+    if let Some(estimate) = too_large {
+        confirm(&estimate)?;
+    }
+
     install_interrupt_handler();
     let progress = Progress::new();
     let (summary, failure, figures_error, first_file) = match &plan.job {
@@ -98,5 +109,28 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
             "the results were written, but drawing the figures failed: {error}"
         ))),
         (None, None) => Ok(()),
+    }
+}
+
+/// Lets a run that the size guard stops go on when the user says so at a terminal
+/// (stdin and stderr both terminals); otherwise a usage error that says what the
+/// estimate is and how to allow it (`--yes`).
+fn confirm(estimate: &str) -> Result<(), Failure> {
+    let refused = || Failure::Usage(format!("{estimate}; pass --yes to run it all the same"));
+    if !(std::io::stdin().is_terminal() && std::io::stderr().is_terminal()) {
+        return Err(refused());
+    }
+    let mut stderr = std::io::stderr();
+    let _ = write!(stderr, "{estimate}.\nRun it? [y/N] ");
+    let _ = stderr.flush();
+    let mut answer = String::new();
+    std::io::stdin()
+        .lock()
+        .read_line(&mut answer)
+        .map_err(|e| Failure::Other(format!("reading the answer failed: {e}")))?;
+    if matches!(answer.trim(), "y" | "Y" | "yes" | "Yes" | "YES") {
+        Ok(())
+    } else {
+        Err(refused())
     }
 }

@@ -9,6 +9,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::axis::{nice_ticks, padded_range, Tick, TickedAxis};
 use super::clip::clip;
+use super::decimate::{for_display, thousands, Thinned};
 use super::file::{write_images, DrawResult, Drawing};
 use super::font::FONT_FAMILY;
 use super::{ImageFormat, PlotError, DEFAULT_SIZE};
@@ -103,7 +104,7 @@ pub struct ChartOptions {
     /// The style of series `i`; series beyond the list take [`PALETTE`]`[i]`.
     pub styles: Vec<SeriesStyle>,
     /// A remark written in the plot's top left corner, e.g. that a curve goes off
-    /// scale.
+    /// scale (a chart whose curves were thinned for display says so below it).
     pub note: Option<String>,
 }
 
@@ -431,35 +432,71 @@ where
         .bold_line_style(BLACK.mix(0.15))
         .light_line_style(BLACK.mix(0.05))
         .draw()?;
-    // The first series last, so that it is on top.
-    for (i, series) in chart.series.iter().enumerate().rev() {
+    // Thinned for display (see `decimate`); the first series last, so that it is on top.
+    let columns = ctx.plotting_area().dim_in_pixel().0 as usize;
+    let thinned: Vec<Thinned> = chart
+        .series
+        .iter()
+        .enumerate()
+        .map(|(i, series)| {
+            let lines = clip(&series.points, x_range, y_range);
+            for_display(lines, x_range, columns, options.style(i).dashed)
+        })
+        .collect();
+    for (i, thinned) in thinned.iter().enumerate().rev() {
         let style = options.style(i);
         let color = RGBColor(style.color.0, style.color.1, style.color.2);
         let shape = color.stroke_width(style.width);
-        for line in clip(&series.points, x_range, y_range) {
+        for line in &thinned.lines {
+            let points = line.iter().copied();
             if line.len() == 1 {
-                ctx.draw_series(std::iter::once(Circle::new(line[0], 2, shape.filled())))?;
+                ctx.draw_series(points.map(|p| Circle::new(p, 2, shape.filled())))?;
             } else if style.dashed {
-                ctx.draw_series(DashedLineSeries::new(line, 8, 5, shape))?;
+                ctx.draw_series(DashedLineSeries::new(points, 8, 5, shape))?;
             } else {
-                ctx.draw_series(LineSeries::new(line, shape))?;
+                ctx.draw_series(LineSeries::new(points, shape))?;
             }
         }
     }
-    if let Some(note) = &options.note {
-        draw_note(&ctx.plotting_area().strip_coord_spec(), note)?;
+    let note = [options.note.clone(), decimation_note(&thinned)]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join("\n");
+    if !note.is_empty() {
+        draw_note(&ctx.plotting_area().strip_coord_spec(), &note)?;
     }
     Ok(())
 }
 
-/// `note` in the top left corner of the plotting area, on a white box.
+/// `drawn from 3,600 of 955,001 points (min/max per pixel column)` when some series
+/// was thinned.
+fn decimation_note(thinned: &[Thinned]) -> Option<String> {
+    thinned.iter().any(Thinned::decimated).then(|| {
+        let kept = thinned.iter().map(|t| t.kept as u64).sum();
+        let total = thinned.iter().map(|t| t.total as u64).sum();
+        format!(
+            "drawn from {} of {} points (min/max per pixel column)",
+            thousands(kept),
+            thousands(total)
+        )
+    })
+}
+
+/// `note` (one or more lines) in the top left corner of the plotting area, on a white
+/// box.
 fn draw_note<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, note: &str) -> DrawResult
 where
     DB::ErrorType: 'static,
 {
     let font = (FONT_FAMILY, LEGEND_SIZE).into_font();
-    let (w, h) = font.box_size(note)?;
-    let (w, h) = (w as i32, h as i32);
+    let lines: Vec<&str> = note.lines().collect();
+    let row = LEGEND_SIZE as i32 + 6;
+    let mut w = 0;
+    for line in &lines {
+        w = w.max(font.box_size(line)?.0 as i32);
+    }
+    let h = row * lines.len() as i32 - 6;
     area.draw(&Rectangle::new(
         [(6, 6), (18 + w, 14 + h)],
         WHITE.mix(0.85).filled(),
@@ -469,7 +506,9 @@ where
     let style = TextStyle::from(font)
         .color(&grey)
         .pos(Pos::new(HPos::Left, VPos::Top));
-    area.draw_text(note, &style, (12, 10))?;
+    for (i, line) in lines.iter().enumerate() {
+        area.draw_text(line, &style, (12, 10 + i as i32 * row))?;
+    }
     Ok(())
 }
 

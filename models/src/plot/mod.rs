@@ -10,6 +10,12 @@
 //!   broken at each wrap), [`cumulative_trapezoid`], [`settled_range`] (a y range not
 //!   squashed by a start-up transient).
 //!
+//! Line charts are thinned for display ([`decimate`]): a curve of more points than the
+//! plot has pixel columns to show keeps the first, lowest, highest and last point of
+//! each column, so peaks survive and an image stays small whatever the run's length,
+//! and the chart says so in its corner (`drawn from 3,600 of 955,001 points (min/max
+//! per pixel column)`).
+//!
 //! Each chart is written once per requested [`ImageFormat`], to
 //! `path_without_extension` plus `.png` or `.svg`. Nothing half-written is ever left
 //! under a final name: each image is drawn into a temporary file in the same directory
@@ -24,6 +30,7 @@ pub mod font;
 mod axis;
 mod clip;
 mod data;
+pub mod decimate;
 mod file;
 mod line;
 mod trajectory;
@@ -105,6 +112,8 @@ pub enum PlotError {
         /// The underlying error.
         source: io::Error,
     },
+    /// Drawing was interrupted (a signal, see [`crate::interrupt`]).
+    Interrupted,
     /// A figure was asked for by an id that does not exist.
     UnknownFigure {
         /// The id asked for.
@@ -134,6 +143,7 @@ impl fmt::Display for PlotError {
                 "could not write `{}`: {action} failed: {source}",
                 path.display()
             ),
+            PlotError::Interrupted => f.write_str("drawing was interrupted"),
             PlotError::UnknownFigure { id, valid } => {
                 write!(f, "no figure `{id}`; the figures are {}", valid.join(", "))
             }

@@ -1,6 +1,7 @@
 //! Curves in 3-D, such as the paths traced by the tips of the unit vectors of an
 //! orientation matrix, drawn in plotters' `Cartesian3d` with the data's z axis up.
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use plotters::coord::ranged3d::Cartesian3d;
@@ -76,10 +77,17 @@ fn finite3(p: &&(f64, f64, f64)) -> bool {
 
 /// The runs of finite points of `points`, each thinned to points at least `min_step`
 /// apart (the first and last kept), so that wide lines are drawn from segments longer
-/// than their width.
+/// than their width; and a segment that joins the same two cells of a grid `min_step`
+/// wide as an earlier one is dropped, so that a path retraced many times (hundreds of
+/// revolutions) is drawn once and the image stays small.
 fn thinned_runs(points: &[(f64, f64, f64)], min_step: f64) -> Vec<Vec<View>> {
-    let runs = points.split(|p| !finite3(&p)).filter(|run| !run.is_empty());
-    runs.map(|run| {
+    let cell = |p: (f64, f64, f64)| {
+        let q = |v: f64| (v / min_step).round() as i64;
+        (q(p.0), q(p.1), q(p.2))
+    };
+    let mut drawn = HashSet::new();
+    let mut out = Vec::new();
+    for run in points.split(|p| !finite3(&p)).filter(|run| !run.is_empty()) {
         let mut kept: Vec<(f64, f64, f64)> = vec![run[0]];
         for (i, &p) in run.iter().enumerate().skip(1) {
             let last = kept[kept.len() - 1];
@@ -89,9 +97,27 @@ fn thinned_runs(points: &[(f64, f64, f64)], min_step: f64) -> Vec<Vec<View>> {
                 kept.push(p);
             }
         }
-        kept.into_iter().map(view).collect()
-    })
-    .collect()
+        if kept.len() == 1 {
+            out.push(vec![view(kept[0])]);
+            continue;
+        }
+        let mut current: Vec<View> = Vec::new();
+        for pair in kept.windows(2) {
+            let (a, b) = (cell(pair[0]), cell(pair[1]));
+            if drawn.insert((a.min(b), a.max(b))) {
+                if current.is_empty() {
+                    current.push(view(pair[0]));
+                }
+                current.push(view(pair[1]));
+            } else if !current.is_empty() {
+                out.push(std::mem::take(&mut current));
+            }
+        }
+        if !current.is_empty() {
+            out.push(current);
+        }
+    }
+    out
 }
 
 impl Trajectory3d {

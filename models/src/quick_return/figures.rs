@@ -98,7 +98,8 @@ pub struct DrawnFigure {
 ///
 /// [`PlotError::UnknownFigure`] (before anything is drawn) if `options.only` names a
 /// figure that does not exist; [`PlotError::Io`] if `out_dir` cannot be created;
-/// otherwise the first error drawing a figure.
+/// [`PlotError::Interrupted`] after a signal ([`crate::interrupt`]); otherwise the
+/// first error drawing a figure.
 pub fn draw_figures(
     results: &Results,
     params: &QuickReturnParams,
@@ -129,7 +130,13 @@ pub fn draw_figures(
     let chosen: Vec<&Figure> = FIGURES.iter().filter(|f| selected(f.id)).collect();
     chosen
         .par_iter()
-        .map(|figure| data.draw(figure, out_dir, &options.formats))
+        .map(|figure| {
+            // A signal stops the drawing between figures.
+            if crate::interrupt::requested() {
+                return Err(PlotError::Interrupted);
+            }
+            data.draw(figure, out_dir, &options.formats)
+        })
         .collect()
 }
 

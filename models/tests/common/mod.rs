@@ -106,13 +106,15 @@ impl Csv {
     }
 }
 
-/// The files in `dir`, sorted by name.
+/// The files in `dir`, sorted by name, hidden ones included but for the marker of a
+/// results folder (`.models-results`).
 pub fn files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = fs::read_dir(dir)
         .map(|entries| {
             entries
                 .filter_map(|e| e.ok())
                 .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|name| name != models::catalog::folder::MARKER)
                 .collect()
         })
         .unwrap_or_default();
