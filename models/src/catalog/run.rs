@@ -263,8 +263,13 @@ fn write_results(
     Ok(path)
 }
 
-/// Creates the output directory.
-pub(super) fn create_dir(dir: &Path) -> Result<(), RunError> {
+/// Creates the output directory `dir` with any missing folders above it: the one rule
+/// for every `--out` (a run, a sweep, and the folder of `models fmu`'s file).
+///
+/// # Errors
+///
+/// [`RunError::Io`] naming `dir`.
+pub fn create_dir(dir: &Path) -> Result<(), RunError> {
     std::fs::create_dir_all(dir).map_err(|source| RunError::Io {
         path: dir.to_path_buf(),
         action: "creating the output directory",
