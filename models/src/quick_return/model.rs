@@ -212,7 +212,6 @@ bond_graph! {
 mod tests {
     use super::*;
     use bgdsl_runtime::Model;
-    use core::f64::consts::TAU;
 
     /// The initial state of `model` with the crank turned to `angle` (its orientation
     /// only: what `crank_angle` reads) and the drive coupling twisted by `twist`.
