@@ -38,6 +38,7 @@
 use std::path::{Path, PathBuf};
 
 use bgdsl_fmi_core::{ModelDescription, ModelEntry};
+use models::catalog::{Catalogued, Checks};
 use models::dc_servo::DcServo;
 use models::quick_return::QuickReturn;
 use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
@@ -45,16 +46,42 @@ use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 pub use bgdsl_fmi_core::{find_library, library_file_name, FmuError};
 
 /// The models this library serves, by `modelIdentifier`: the names of the `models`
-/// catalogue.
+/// catalogue. Each checks the parameter values an importer sets with the catalogue's
+/// physical checks ([`catalogue_check`]), as `models run --set` does.
 pub static MODELS: &[ModelEntry] = &[
-    ModelEntry::new::<QuickReturn>("quick_return"),
-    ModelEntry::new::<Oscillator>("oscillator"),
-    ModelEntry::new::<SeriesRlc>("rlc"),
-    ModelEntry::new::<DcMotor>("dc_motor"),
-    ModelEntry::new::<QuarterCar>("quarter_car"),
-    ModelEntry::new::<Duffing>("duffing"),
-    ModelEntry::new::<DcServo>("dc_servo"),
+    entry::<QuickReturn>("quick_return"),
+    entry::<Oscillator>("oscillator"),
+    entry::<SeriesRlc>("rlc"),
+    entry::<DcMotor>("dc_motor"),
+    entry::<QuarterCar>("quarter_car"),
+    entry::<Duffing>("duffing"),
+    entry::<DcServo>("dc_servo"),
 ];
+
+const fn entry<M: Catalogued>(identifier: &'static str) -> ModelEntry {
+    ModelEntry::new::<M>(identifier).with_check(catalogue_check::<M>)
+}
+
+/// The catalogue's physical checks of model `M` ([`Catalogued::check_params`]: a mass
+/// of 0, a negative stiffness, a mechanism that cannot be assembled) on a whole set of
+/// flat parameter values: `Err` with every problem found, each naming its parameter,
+/// its meaning and unit, the rule and the value.
+///
+/// # Errors
+///
+/// The values break one of the model's rules.
+pub fn catalogue_check<M: Catalogued>(values: &[f64]) -> Result<(), String> {
+    let mut model = M::default();
+    model.set_parameter_values(values);
+    let mut checks = Checks::new(M::PARAMETERS);
+    M::check_params(model.params(), &mut checks);
+    let problems = checks.into_problems();
+    if problems.is_empty() {
+        return Ok(());
+    }
+    let messages: Vec<String> = problems.iter().map(ToString::to_string).collect();
+    Err(messages.join("; "))
+}
 
 bgdsl_fmi_core::export_fmi2!(MODELS);
 

@@ -93,6 +93,8 @@ fn every_model_description_is_well_formed_and_lists_every_variable_once() {
                 .unwrap_or_default()
         };
         let derivatives = indices("Derivatives");
+        let mut initial_state = vec![0.0; description.variables.sizes().states];
+        entry.create().initial_state(&mut initial_state);
         let outputs = indices("Outputs");
         let mut expected_derivatives = Vec::new();
         let mut expected_outputs = Vec::new();
@@ -120,7 +122,16 @@ fn every_model_description_is_well_formed_and_lists_every_variable_once() {
                     let start: f64 = real.attribute("start").unwrap().parse().unwrap();
                     assert_eq!(Some(start), v.start);
                 }
-                Role::State(_) | Role::Input(_) => {}
+                Role::State(i) => {
+                    // Settable at initialisation: exact, starting at the initial state
+                    // of the default parameters, and not an initial unknown.
+                    assert_eq!(node.attribute("causality"), Some("local"));
+                    assert_eq!(node.attribute("initial"), Some("exact"));
+                    let start: f64 = real.attribute("start").unwrap().parse().unwrap();
+                    assert_eq!(start, initial_state[i], "{}", v.name);
+                    assert!(!indices("InitialUnknowns").contains(&(position + 1)));
+                }
+                Role::Input(_) => {}
             }
         }
         assert_eq!(derivatives, expected_derivatives, "{}", entry.identifier());

@@ -311,7 +311,7 @@ mod bad_calls {
         assert_eq!(status, Status::Error);
         let message = log.last_error();
         assert!(
-            message.starts_with("fmi2GetReal: value reference 9999"),
+            message.starts_with("fmi2GetReal(nvr=2): value reference 9999"),
             "{message}"
         );
         assert_eq!(values, [-1.0; 2], "nothing written");
@@ -383,10 +383,10 @@ mod bad_calls {
     }
 
     #[test]
-    fn setting_a_state_or_an_output_is_an_error_with_a_message() {
+    fn setting_an_output_or_a_state_after_initialisation_is_an_error_with_a_message() {
         let log = Log::default();
         let cb = callbacks(Some(&log));
-        let c = instantiate(MODEL_EXCHANGE, &guid("oscillator"), &cb);
+        let c = running_oscillator(&cb, 100.0);
         // SAFETY: a live component and arrays of the lengths passed.
         unsafe {
             assert_eq!(
@@ -398,12 +398,146 @@ mod bad_calls {
                 fmi2SetReal(c, &vr("oscillator", "spring.q"), 1, &1.0),
                 Status::Error
             );
-            assert!(log.last_error().contains("is a state"));
+            let message = log.last_error();
+            assert!(
+                message.contains("before initialisation ends only")
+                    && message.contains("fmi2SetContinuousStates"),
+                "{message}"
+            );
+            fmi2FreeInstance(c);
+        }
+    }
+
+    /// A state set before initialisation ends is where Model Exchange starts and what
+    /// Co-Simulation integrates from; the other states follow the parameters.
+    #[test]
+    fn an_initial_state_set_before_initialisation_is_where_the_run_starts() {
+        let (q, p) = (vr("oscillator", "spring.q"), vr("oscillator", "mass.p"));
+        let model = Oscillator::default();
+        let mut declared = [0.0; 2];
+        model.initial_state(&mut declared);
+        let q_index = Oscillator::STATE_NAMES
+            .iter()
+            .position(|n| *n == "spring.q")
+            .unwrap();
+        let mut expected = declared;
+        expected[q_index] = 0.05;
+        for kind in [MODEL_EXCHANGE, CO_SIMULATION] {
+            let cb = callbacks(None);
+            let c = instantiate(kind, &guid("oscillator"), &cb);
+            let (mut before, mut after) = ([0.0; 2], [0.0; 2]);
+            // SAFETY: a live component and arrays of the lengths passed.
+            unsafe {
+                assert_eq!(fmi2SetReal(c, &q, 1, &0.05), Status::Ok);
+                assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+                assert_eq!(
+                    fmi2GetReal(c, [q, p].as_ptr(), 2, before.as_mut_ptr()),
+                    Status::Ok
+                );
+                assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+                assert_eq!(
+                    fmi2GetReal(c, [q, p].as_ptr(), 2, after.as_mut_ptr()),
+                    Status::Ok
+                );
+                if kind == CO_SIMULATION {
+                    assert_eq!(fmi2DoStep(c, 0.0, 0.1, TRUE), Status::Ok);
+                    let mut moved = [0.0; 2];
+                    fmi2GetReal(c, [q, p].as_ptr(), 2, moved.as_mut_ptr());
+                    let mut stepper =
+                        Stepper::starting_at(model.clone(), model.default_solver(), 0.0, &expected)
+                            .unwrap();
+                    stepper.advance_to(0.1).unwrap();
+                    let x = stepper.state();
+                    assert_eq!(moved, [x[q_index], x[1 - q_index]]);
+                }
+                fmi2FreeInstance(c);
+            }
+            let wanted = [expected[q_index], expected[1 - q_index]];
+            assert_eq!(before, wanted, "kind {kind}");
+            assert_eq!(after, wanted, "kind {kind}");
+        }
+    }
+
+    /// A value the catalogue's checks reject (what `models run --set` refuses) is
+    /// refused at the call, with the parameter and the rule, and changes nothing.
+    #[test]
+    fn a_parameter_value_the_program_rejects_is_refused_at_the_call() {
+        let log = Log::default();
+        let cb = callbacks(Some(&log));
+        let c = instantiate(CO_SIMULATION, &guid("quick_return"), &cb);
+        let m1 = vr("quick_return", "m1");
+        let l4 = vr("quick_return", "l4[1]");
+        let mut values = [0.0; 2];
+        // SAFETY: a live component and arrays of the lengths passed.
+        unsafe {
+            assert_eq!(fmi2SetReal(c, &m1, 1, &0.0), Status::Error);
+            let message = log.last_error();
+            assert!(
+                message.contains("parameter `m1`") && message.contains("must be > 0, found 0"),
+                "{message}"
+            );
+            assert_eq!(fmi2SetReal(c, &m1, 1, &f64::NAN), Status::Error);
+            assert!(log.last_error().contains("m1 = NaN is not finite"));
+            // A rule between parameters: the rod no longer reaches the guide.
             assert_eq!(
-                fmi2SetReal(c, &vr("oscillator", "k"), 1, &f64::NAN),
+                fmi2SetReal(c, [m1, l4].as_ptr(), 2, [2.0, 0.1].as_ptr()),
                 Status::Error
             );
-            assert!(log.last_error().contains("not finite"));
+            assert!(log.last_error().contains("cannot be assembled"));
+            assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+            assert_eq!(
+                fmi2GetReal(c, [m1, l4].as_ptr(), 2, values.as_mut_ptr()),
+                Status::Ok
+            );
+            assert_eq!(values, [0.5, 0.4], "unchanged by the refused calls");
+            assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+            // Between steps too, and the FMU goes on.
+            assert_eq!(fmi2SetReal(c, &m1, 1, &-1.0), Status::Error);
+            assert!(log.last_error().contains("must be > 0, found -1"));
+            assert_eq!(fmi2SetReal(c, &m1, 1, &0.6), Status::Ok);
+            assert_eq!(fmi2DoStep(c, 0.0, 0.01, TRUE), Status::Ok);
+            fmi2FreeInstance(c);
+        }
+    }
+
+    /// With `logCalls` on, a call that fails is logged once, as an error naming the
+    /// call, its arguments and why, and one that succeeds once, as OK.
+    #[test]
+    fn every_call_is_logged_once_with_its_outcome() {
+        let log = Log::default();
+        let cb = callbacks(Some(&log));
+        let c = running_oscillator(&cb, 100.0);
+        let force = vr("oscillator", "force");
+        let mut value = 0.0;
+        // SAFETY: a live component and arrays of the lengths passed.
+        unsafe {
+            assert_eq!(
+                fmi2SetDebugLogging(c, TRUE, 0, core::ptr::null()),
+                Status::Ok
+            );
+            log.0.lock().unwrap().clear();
+            assert_eq!(fmi2GetReal(c, &9999, 1, &mut value), Status::Error);
+            let messages = log.messages();
+            assert_eq!(messages.len(), 1, "{messages:?}");
+            let (status, category, message) = &messages[0];
+            assert_eq!(
+                (*status, category.as_str()),
+                (Status::Error as c_int, "logStatusError")
+            );
+            assert!(
+                message.starts_with("fmi2GetReal(nvr=1): ") && message.contains("9999"),
+                "{message}"
+            );
+            log.0.lock().unwrap().clear();
+            assert_eq!(fmi2GetReal(c, &force, 1, &mut value), Status::Ok);
+            assert_eq!(
+                log.messages(),
+                [(
+                    Status::Ok as c_int,
+                    "logCalls".to_string(),
+                    "fmi2GetReal(nvr=1)".to_string()
+                )]
+            );
             fmi2FreeInstance(c);
         }
     }

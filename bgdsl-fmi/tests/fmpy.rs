@@ -7,8 +7,9 @@
 //! overrides), then runs `tests/fmpy_check.py`, which
 //!
 //! 1. validates every FMU with `fmpy.validation.validate_fmu` (no problem allowed);
-//! 2. simulates them with parameters (and the servo's inputs) set through
-//!    `start_values` (so through `fmi2SetReal` before initialisation): the oscillator,
+//! 2. simulates them with parameters (and the servo's inputs, and the oscillator's
+//!    initial spring deflection) set through `start_values` (so through `fmi2SetReal`
+//!    before initialisation): the oscillator,
 //!    the DC motor and the servo as Model Exchange (FMPy's CVode integrates) and as Co-Simulation (our Radau5 integrates
 //!    inside the FMU), the quick return as Co-Simulation, every 1 ms;
 //! 3. calls one FMU wrongly through FMPy's own bindings and checks each call fails
@@ -79,11 +80,35 @@ struct Run {
 
 impl Run {
     fn csv(&self, dir: &Path) -> PathBuf {
-        dir.join(format!("{}_{}.csv", self.model, self.fmi_type))
+        let states = if self.sets_a_state() { "_state" } else { "" };
+        dir.join(format!("{}_{}{states}.csv", self.model, self.fmi_type))
+    }
+
+    fn sets_a_state(&self) -> bool {
+        self.start_values
+            .iter()
+            .any(|(name, _)| name.contains(".q"))
     }
 }
 
 const RUNS: &[Run] = &[
+    // An initial state set by the importer (the states are initial="exact").
+    Run {
+        model: "oscillator",
+        fmi_type: "ModelExchange",
+        stop_time: 1.0,
+        interval: 1e-3,
+        rtol: Some(1e-10),
+        start_values: &[("spring.q", 0.05)],
+    },
+    Run {
+        model: "oscillator",
+        fmi_type: "CoSimulation",
+        stop_time: 1.0,
+        interval: 1e-3,
+        rtol: None,
+        start_values: &[("spring.q", 0.05)],
+    },
     Run {
         model: "oscillator",
         fmi_type: "ModelExchange",
@@ -235,22 +260,35 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
 /// Model `M` with `start_values` set as the FMU sets them: by FMI variable name,
 /// through the flat parameter and input values.
 fn tuned<M: Exportable>(start_values: &[(&str, f64)]) -> M {
+    started::<M>(start_values).0
+}
+
+/// Model `M` with `start_values` set as the FMU sets them, and its initial state: the
+/// declared one for those parameters, but for the states `start_values` sets.
+fn started<M: Exportable>(start_values: &[(&str, f64)]) -> (M, Vec<f64>) {
     let description = ModelDescription::of::<M>();
     let mut model = M::default();
     let mut p = vec![0.0; M::N_PARAMETER_VALUES];
     model.parameter_values(&mut p);
     let mut u = vec![0.0; M::INPUTS.len()];
     model.input_values(&mut u);
+    let mut states = Vec::new();
     for (name, value) in start_values {
         match description.variables.find(name).map(|v| v.role) {
             Some(Role::Parameter(i)) => p[i] = *value,
             Some(Role::Input(i)) => u[i] = *value,
-            other => panic!("{name} is neither a parameter nor an input ({other:?})"),
+            Some(Role::State(i)) => states.push((i, *value)),
+            other => panic!("{name} is not a parameter, an input or a state ({other:?})"),
         }
     }
     model.set_parameter_values(&p);
     model.set_input_values(&u);
-    model
+    let mut x0 = vec![0.0; M::N_STATES];
+    model.initial_state(&mut x0);
+    for (i, value) in states {
+        x0[i] = value;
+    }
+    (model, x0)
 }
 
 /// States then outputs at `(t, x)`, in the order of [`recorded`].
@@ -264,9 +302,7 @@ fn row<M: Exportable>(model: &M, t: f64, x: &[f64]) -> Vec<f64> {
 /// point `t_n = n * interval`, each step `doStep(t_n, t_{n+1} - t_n)`, which the FMU
 /// integrates to `t_n + (t_{n+1} - t_n)`, from where the last step ended.
 fn stepped_like_fmpy<M: Exportable>(run: &Run, times: &[f64]) -> Vec<Vec<f64>> {
-    let model: M = tuned(run.start_values);
-    let mut x0 = vec![0.0; M::N_STATES];
-    model.initial_state(&mut x0);
+    let (model, x0) = started::<M>(run.start_values);
     let solver = model.default_solver();
     let mut stepper = Stepper::starting_at(model, solver, 0.0, &x0).unwrap();
     let mut rows = vec![row(stepper.model(), 0.0, &x0)];
@@ -283,9 +319,7 @@ fn stepped_like_fmpy<M: Exportable>(run: &Run, times: &[f64]) -> Vec<Vec<f64>> {
 
 /// One uninterrupted run of the project's own, sampled at `times`.
 fn own_run<M: Exportable>(run: &Run, times: &[f64], solver: Solver) -> Vec<Vec<f64>> {
-    let model: M = tuned(run.start_values);
-    let mut x0 = vec![0.0; M::N_STATES];
-    model.initial_state(&mut x0);
+    let (model, x0) = started::<M>(run.start_values);
     let mut sim = Simulation::new(&model, solver).unwrap();
     let mut rows = Vec::new();
     let mut record = |t: f64, x: &[f64], _: &[f64]| rows.push(row(&model, t, x));
@@ -339,6 +373,39 @@ fn compare<M: Exportable>(
         run.fmi_type
     );
     let values: Vec<Vec<f64>> = data.iter().map(|r| r[1..].to_vec()).collect();
+    let column = |name: &str| -> Vec<f64> {
+        let j = names.iter().position(|n| n == name).unwrap();
+        values.iter().map(|r| r[j]).collect()
+    };
+    // A state the importer set is where the run starts.
+    for (name, value) in run.start_values {
+        if name.contains(".q") {
+            let first = column(name)[0];
+            if first != *value {
+                failures.push(format!(
+                    "{} {}: {name} starts at {first}, not at the start value {value}",
+                    run.model, run.fmi_type
+                ));
+            }
+        }
+    }
+    // The crank angle is the program's: unwrapped (no jump between samples), so past π
+    // after the crank has turned through it.
+    if run.model == "quick_return" {
+        let angle = column("crank_angle");
+        let jump = angle
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f64::max);
+        let last = angle[angle.len() - 1];
+        if !(jump < 0.1 && last > core::f64::consts::PI) {
+            failures.push(format!(
+                "quick_return {}: crank_angle is not unwrapped: largest step {jump} rad between \
+                 samples, {last} rad at the end",
+                run.fmi_type
+            ));
+        }
+    }
     // The tuned parameters took effect: the results are far from the defaults'.
     let default_run = Run {
         start_values: &[],

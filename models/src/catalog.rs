@@ -107,7 +107,9 @@ pub use columns::{resolve_columns, Column};
 pub use figures::figure_ids;
 pub use params::{describe_value, format_value, parse_value, set_parameter};
 pub use physics::Catalogued;
-pub use run::{Observer, Outcome, Plots, RunError, RunPlan, Silent};
+pub use run::{
+    create_dir as create_output_dir, Observer, Outcome, Plots, RunError, RunPlan, Silent,
+};
 pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;

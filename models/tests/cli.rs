@@ -111,9 +111,89 @@ fn graph_prints_the_causal_graph_as_dot_or_svg() {
         assert_success(&svg);
         assert!(svg.stdout.contains("<svg"), "{}", svg.stdout);
     } else {
-        assert_eq!(svg.code, Some(1));
+        assert_eq!(svg.code, Some(MISSING_PREREQUISITE));
         assert!(svg.stderr.contains("Graphviz"), "{}", svg.stderr);
     }
+}
+
+/// The exit status of a missing external prerequisite (`EX_UNAVAILABLE`).
+const MISSING_PREREQUISITE: i32 = 69;
+
+/// Graphviz missing for `graph --svg` and the FMI library missing for `fmu`: the same
+/// status, and a message that says what to install or build.
+#[test]
+fn a_missing_prerequisite_has_one_exit_status() {
+    let dir = scratch("missing_prerequisite");
+    let empty = dir.join("empty_path");
+    fs::create_dir_all(&empty).unwrap();
+    let no_dot = std::process::Command::new(env!("CARGO_BIN_EXE_models"))
+        .args(["graph", "oscillator", "--svg"])
+        .env("PATH", &empty)
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&no_dot.stderr);
+    assert_eq!(no_dot.status.code(), Some(MISSING_PREREQUISITE), "{stderr}");
+    assert!(stderr.contains("Graphviz"), "{stderr}");
+    let no_library = std::process::Command::new(env!("CARGO_BIN_EXE_models"))
+        .args(["fmu", "oscillator", "--out"])
+        .arg(dir.join("fmu"))
+        .env("BGDSL_FMI_LIBRARY", dir.join("no-such-library.so"))
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&no_library.stderr);
+    assert_eq!(
+        no_library.status.code(),
+        Some(MISSING_PREREQUISITE),
+        "{stderr}"
+    );
+    assert!(stderr.contains("cargo build -p bgdsl-fmi"), "{stderr}");
+    assert!(
+        !dir.join("fmu").exists(),
+        "nothing is created without the library"
+    );
+}
+
+/// `fmu --out` creates the folders it needs, as `run --out` does: for a `.fmu` file,
+/// its folder; for any other path, that folder.
+#[test]
+fn fmu_creates_missing_folders_as_run_does() {
+    let program = Path::new(env!("CARGO_BIN_EXE_models"));
+    let library = program.with_file_name(bgdsl_fmi_core::library_file_name());
+    let in_deps = program
+        .with_file_name("deps")
+        .join(bgdsl_fmi_core::library_file_name());
+    if !library.is_file() && !in_deps.is_file() {
+        // `cargo test --workspace` builds it; `cargo test -p models` alone does not.
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
+            "\n!!! SKIPPED: no FMI library at {} (build it with `cargo build -p bgdsl-fmi`)\n",
+            library.display()
+        );
+        return;
+    }
+    let dir = scratch("fmu_folders");
+    let file = dir.join("a/b/c.fmu");
+    let out = run(&["fmu", "oscillator", "--out", file.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(file.is_file(), "{}", file.display());
+    assert_eq!(out.stdout.trim(), file.display().to_string());
+    let folder = dir.join("x/y");
+    let out = run(&["fmu", "oscillator", "--out", folder.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(folder.join("oscillator.fmu").is_file());
+    let results = dir.join("r/s/t");
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--t-end",
+        "0.2",
+        "--no-plots",
+        "--out",
+        results.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    assert!(results.join("oscillator.csv").is_file());
 }
 
 /// Checks a quick return results file: the spec's header, one row per ms from 0 to
@@ -541,7 +621,7 @@ fn fmu_says_how_to_build_the_library_it_needs_and_writes_nothing_without_it() {
         .env("BGDSL_FMI_LIBRARY", dir.join("no-such-library.so"))
         .output()
         .expect("the binary runs");
-    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    assert_eq!(out.status.code(), Some(MISSING_PREREQUISITE), "{out:?}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("no-such-library.so"), "{stderr}");
     assert!(files(&dir).is_empty(), "{:?}", files(&dir));

@@ -11,7 +11,9 @@
 //!   non-zero length;
 //! - runs the call under [`catch_unwind`], so that no panic crosses into C: a panic
 //!   becomes `fmi2Error`, a logged message and [`Phase::Error`](crate::Phase::Error);
-//! - logs every failure through the importer's logger, prefixed with the function name.
+//! - logs the call once, after it, with its outcome: a failure always (`fmi2Error`,
+//!   the function's name and arguments, then why), a success only in category
+//!   `logCalls` (`fmi2OK`, the name and arguments).
 //!
 //! # Safety contract
 //!
@@ -83,17 +85,22 @@ unsafe fn with_instance(
         // and `free_instance` has not reclaimed; no other reference to it exists during
         // this call (the caller's contract).
         let instance = unsafe { &mut *c.cast::<Instance>() };
-        instance.trace(call, args);
         let result = instance.check(call).and_then(|()| body(&mut *instance));
         match result {
-            Ok(status) => status,
+            Ok(status) => {
+                // A step that failed (fmi2Discard) said why itself.
+                if status == Status::Ok {
+                    instance.trace(call, args);
+                }
+                status
+            }
             Err(error) => {
                 if let CallError::Failed(_) = error {
                     instance.enter_error();
                 }
                 instance.log(
                     Status::Error,
-                    &format!("{}: {}", call.name(), error.message()),
+                    &format!("{}({}): {}", call.name(), args(), error.message()),
                 );
                 Status::Error
             }

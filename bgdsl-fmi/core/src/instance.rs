@@ -59,9 +59,13 @@ pub struct Instance {
     start_time: f64,
     stop_time: Option<f64>,
     tolerance: Option<f64>,
-    /// The state: the initial state (following the parameters) until initialisation
-    /// ends, then the importer's (Model Exchange) or the solver's (Co-Simulation).
+    /// The state: the initial state (following the parameters, but for the entries
+    /// the importer set) until initialisation ends, then the importer's (Model
+    /// Exchange) or the solver's (Co-Simulation).
     x: Vec<f64>,
+    /// The initial states the importer set with `fmi2SetReal` before initialisation
+    /// ended; the others follow the parameters.
+    x_start: Vec<Option<f64>>,
     dx: Vec<f64>,
     y: Vec<f64>,
     p: Vec<f64>,
@@ -104,6 +108,7 @@ impl Instance {
             stop_time: None,
             tolerance: None,
             x: vec![0.0; sizes.states],
+            x_start: vec![None; sizes.states],
             dx: vec![0.0; sizes.states],
             y: vec![0.0; sizes.outputs],
             p: vec![0.0; sizes.parameters],
@@ -137,8 +142,9 @@ impl Instance {
         self.logger.log(status, message);
     }
 
-    /// Logs the call and its arguments in category `logCalls`, formatting only when
-    /// that category is on.
+    /// Logs a call that succeeded, with its arguments, in category `logCalls`
+    /// (formatting only when that category is on). A call that fails is logged once,
+    /// as an error, by the FFI layer instead.
     pub fn trace(&self, call: Call, args: impl FnOnce() -> String) {
         if self.logger.wants(Category::Calls) {
             self.logger
@@ -234,11 +240,11 @@ impl Instance {
         Ok(Status::Ok)
     }
 
-    /// `fmi2ExitInitializationMode`: the state is fixed (the declared initial
-    /// conditions for the parameters as set); Model Exchange goes to Event Mode,
-    /// Co-Simulation starts its solver.
+    /// `fmi2ExitInitializationMode`: the state is fixed (each state the importer set,
+    /// the declared initial conditions for the parameters as set for the others); Model
+    /// Exchange goes to Event Mode, Co-Simulation starts its solver.
     pub fn exit_initialization_mode(&mut self) -> CallResult {
-        self.model.initial_state(&mut self.x);
+        self.refresh_state();
         if let Some(i) = self.x.iter().position(|v| !v.is_finite()) {
             return refuse(format!(
                 "the initial state {} = {} is not finite (check the parameters)",
@@ -264,10 +270,11 @@ impl Instance {
         Ok(Status::Ok)
     }
 
-    /// `fmi2Reset`: back to [`Phase::Instantiated`] with the default parameters and
-    /// inputs. The logging settings stay.
+    /// `fmi2Reset`: back to [`Phase::Instantiated`] with the default parameters,
+    /// inputs and initial states. The logging settings stay.
     pub fn reset(&mut self) -> CallResult {
         self.model.reset();
+        self.x_start.fill(None);
         self.phase = Phase::Instantiated;
         self.time = 0.0;
         self.start_time = 0.0;
@@ -313,20 +320,38 @@ impl Instance {
     }
 
     /// `fmi2SetReal`: parameters (before initialisation ends; then in Event Mode or
-    /// between Co-Simulation steps) and inputs (whenever `fmi2SetReal` is allowed).
-    /// States, derivatives and outputs are computed, not set. Every value is checked
-    /// before any is set.
+    /// between Co-Simulation steps), inputs (whenever `fmi2SetReal` is allowed) and the
+    /// initial states (before initialisation ends: they are `initial="exact"`).
+    /// Derivatives and outputs are computed, not set. Every value is checked before
+    /// any is set, and the parameters as they would be then against the model's rule
+    /// ([`FmuModel::check_parameter_values`]).
     pub fn set_real(&mut self, vrs: &[ValueReference], values: &[f64]) -> CallResult {
         self.check_lengths("vr", vrs.len(), "value", values.len())?;
         let roles = self.roles(vrs)?;
         for ((&vr, role), &value) in vrs.iter().zip(&roles).zip(values) {
             let name = self.variable_name(*role);
             match role {
-                Role::State(_) | Role::Derivative(_) | Role::Output(_) => {
+                Role::Derivative(_) | Role::Output(_) => {
                     return refuse(format!(
-                        "{name} (value reference {vr}) is {} {}: only parameters and inputs can be set",
-                        if role.kind().starts_with('o') { "an" } else { "a" },
+                        "{name} (value reference {vr}) is {} {}: only parameters, inputs and \
+                         initial states can be set",
+                        if role.kind().starts_with('o') {
+                            "an"
+                        } else {
+                            "a"
+                        },
                         role.kind()
+                    ));
+                }
+                Role::State(_) if self.phase.is_initialised() => {
+                    return refuse(format!(
+                        "state {name} (value reference {vr}) can be set before initialisation \
+                         ends only (it is initial=\"exact\"); afterwards the state is the \
+                         integration's{}",
+                        match self.kind {
+                            FmuKind::ModelExchange => " (fmi2SetContinuousStates sets it)",
+                            FmuKind::CoSimulation => "",
+                        }
                     ));
                 }
                 Role::Parameter(_) if self.phase == Phase::ContinuousTimeMode => {
@@ -343,20 +368,28 @@ impl Instance {
         }
         let touches = |f: fn(&Role) -> bool| roles.iter().any(f);
         if touches(|r| matches!(r, Role::Parameter(_))) {
-            self.model.parameter_values(&mut self.p);
+            let mut p = vec![0.0; self.sizes.parameters];
+            self.model.parameter_values(&mut p);
+            for (role, &value) in roles.iter().zip(values) {
+                if let Role::Parameter(i) = *role {
+                    p[i] = value;
+                }
+            }
+            self.model.check_parameter_values(&p).map_err(|rule| {
+                CallError::Refused(format!("{rule}; the parameters are left as they were"))
+            })?;
+            self.model.set_parameter_values(&p);
+            self.p = p;
         }
         if touches(|r| matches!(r, Role::Input(_))) {
             self.model.input_values(&mut self.u);
         }
         for (role, &value) in roles.iter().zip(values) {
             match *role {
-                Role::Parameter(i) => self.p[i] = value,
                 Role::Input(i) => self.u[i] = value,
+                Role::State(i) => self.x_start[i] = Some(value),
                 _ => {}
             }
-        }
-        if touches(|r| matches!(r, Role::Parameter(_))) {
-            self.model.set_parameter_values(&self.p);
         }
         if touches(|r| matches!(r, Role::Input(_))) {
             self.model.set_input_values(&self.u);
@@ -542,10 +575,15 @@ impl Instance {
     // ----- helpers ------------------------------------------------------------------
 
     /// Before initialisation ends the state is the initial state for the parameters
-    /// as they are now.
+    /// as they are now, but for the states the importer set.
     fn refresh_state(&mut self) {
         if !self.phase.is_initialised() {
             self.model.initial_state(&mut self.x);
+            for (x, set) in self.x.iter_mut().zip(&self.x_start) {
+                if let Some(value) = set {
+                    *x = *value;
+                }
+            }
         }
     }
 

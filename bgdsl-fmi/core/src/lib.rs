@@ -38,10 +38,22 @@
 //! # Behaviour towards the importer
 //!
 //! Bad calls (an unknown value reference, a wrong array length, a call the state
-//! machine does not allow now, a NULL or freed component) return `fmi2Error` with a
-//! message through the importer's logger, and change nothing; a panic in model code is
-//! caught at the boundary and becomes `fmi2Error` with the instance in its error
-//! state. Failures are always logged, whatever `loggingOn` says.
+//! machine does not allow now, a NULL or freed component, a parameter value the
+//! model's [`ParameterCheck`] rejects) return `fmi2Error` with a message through the
+//! importer's logger, and change nothing; a panic in model code is caught at the
+//! boundary and becomes `fmi2Error` with the instance in its error state. Each call is
+//! logged once, after it, with its outcome: failures always, whatever `loggingOn`
+//! says; successes in category `logCalls` when it is on.
+//!
+//! The host sets parameters, inputs and, before initialisation ends, the initial
+//! states (`initial="exact"`; see [`variables`]).
+//!
+//! # Your own model as an FMU
+//!
+//! A crate that builds as a `cdylib`, lists its models in a `static` registry of
+//! [`ModelEntry`] (optionally [`ModelEntry::with_check`]), invokes [`export_fmi2!`] once,
+//! and packs the FMU with [`write_fmu`]: `bgdsl-fmi/example/` in the repository is a
+//! complete, tested one.
 #![warn(missing_docs)]
 
 pub mod description;
@@ -64,7 +76,7 @@ pub use fmi2::Status;
 pub use instance::{CallError, Instance};
 pub use library::{check_serves, find_library, library_file_name, LIBRARY_ENV};
 pub use machine::{Call, Phase};
-pub use model::{Adapter, Exportable, FmuModel, Sizes};
+pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes};
 pub use package::{fmu_bytes, platform_folder, write_fmu, FmuError};
 pub use registry::ModelEntry;
 pub use variables::{Role, Variable, Variables};

@@ -25,7 +25,9 @@ pub fn library_file_name() -> String {
 /// Finds the shared library: the file named by `BGDSL_FMI_LIBRARY` if set; otherwise
 /// [`library_file_name`] next to the running program, or one folder up (so that
 /// `target/release/models`, tests in `target/debug/deps/` and examples in
-/// `target/debug/examples/` all find `target/<profile>/libbgdsl_fmi.so`).
+/// `target/debug/examples/` all find `target/<profile>/libbgdsl_fmi.so`), or in
+/// `deps/` beside the program (where `cargo test` leaves the library without copying
+/// it up; a library built from other model code is refused later by [`check_serves`]).
 ///
 /// # Errors
 ///
@@ -41,7 +43,9 @@ pub fn find_library() -> Result<PathBuf, FmuError> {
     }
     let mut tried = Vec::new();
     if let Ok(exe) = std::env::current_exe() {
-        for dir in exe.ancestors().skip(1).take(2) {
+        let beside = exe.ancestors().skip(1).take(2).map(Path::to_path_buf);
+        let in_deps = exe.parent().map(|dir| dir.join("deps"));
+        for dir in beside.chain(in_deps) {
             let candidate = dir.join(library_file_name());
             if candidate.is_file() {
                 return Ok(candidate);

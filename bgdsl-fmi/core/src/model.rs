@@ -9,6 +9,18 @@
 
 use bgdsl_runtime::{Model, Solver, Stepper, WithInputs};
 
+/// A model's rule for its parameters, applied to the whole flat parameter vector (in
+/// [`Model::parameter_values`] order) that an `fmi2SetReal` would leave: `Err` with a
+/// message naming the parameter and the rule refuses the call, which then changes
+/// nothing.
+pub type ParameterCheck = fn(&[f64]) -> Result<(), String>;
+
+/// The default [`ParameterCheck`]: finite numbers only, which the instance checks for
+/// every value it is given, so nothing is left to check here.
+pub fn finite_only(_values: &[f64]) -> Result<(), String> {
+    Ok(())
+}
+
 /// The models an FMU can be made of: every model `bond_graph!` generates (they
 /// implement [`WithInputs`] and [`Default`], the defaults being the declared values).
 pub trait Exportable: WithInputs + Default + 'static {}
@@ -58,6 +70,13 @@ pub trait FmuModel {
     fn parameter_values(&self, out: &mut [f64]);
     /// Sets the parameter values from `values`.
     fn set_parameter_values(&mut self, values: &[f64]);
+    /// Whether `values` (every parameter value, flattened) is a set the model accepts:
+    /// the model's [`ParameterCheck`].
+    ///
+    /// # Errors
+    ///
+    /// The message of the first rule broken, naming the parameter.
+    fn check_parameter_values(&self, values: &[f64]) -> Result<(), String>;
     /// Writes the inputs into `out`.
     fn input_values(&self, out: &mut [f64]);
     /// Sets the inputs from `values`.
@@ -87,6 +106,7 @@ pub trait FmuModel {
 #[derive(Debug)]
 pub struct Adapter<M: Model + 'static> {
     holder: Holder<M>,
+    check: ParameterCheck,
 }
 
 #[derive(Debug)]
@@ -98,16 +118,25 @@ enum Holder<M: Model + 'static> {
 }
 
 impl<M: Exportable> Adapter<M> {
-    /// The model with its default parameters and inputs.
+    /// The model with its default parameters and inputs, accepting any finite
+    /// parameter values ([`finite_only`]).
     pub fn new() -> Self {
+        Self::with_check(finite_only)
+    }
+
+    /// The model with its default parameters and inputs, and `check` for the values
+    /// an importer sets.
+    pub fn with_check(check: ParameterCheck) -> Self {
         Adapter {
             holder: Holder::Model(M::default()),
+            check,
         }
     }
 
-    /// The model as a trait object, for an FMU instance.
-    pub fn boxed() -> Box<dyn FmuModel> {
-        Box::new(Self::new())
+    /// The model as a trait object, for an FMU instance, with `check` for its
+    /// parameters.
+    pub fn boxed(check: ParameterCheck) -> Box<dyn FmuModel> {
+        Box::new(Self::with_check(check))
     }
 
     fn model(&self) -> &M {
@@ -174,6 +203,10 @@ impl<M: Exportable> FmuModel for Adapter<M> {
 
     fn set_parameter_values(&mut self, values: &[f64]) {
         self.model_mut().set_parameter_values(values);
+    }
+
+    fn check_parameter_values(&self, values: &[f64]) -> Result<(), String> {
+        (self.check)(values)
     }
 
     fn input_values(&self, out: &mut [f64]) {

@@ -1,10 +1,12 @@
 //! The models a shared library serves, and how `fmi2Instantiate` finds one by GUID.
 
 use crate::description::ModelDescription;
-use crate::model::{Adapter, Exportable, FmuModel};
+use crate::model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck};
 
 /// One model a library serves: its `modelIdentifier`, its description (with the GUID
-/// `fmi2Instantiate` matches) and how to make a fresh one.
+/// `fmi2Instantiate` matches), how to make a fresh one, and the rule its parameters
+/// follow (by default [`finite_only`]; [`ModelEntry::with_check`] sets another, so an
+/// `fmi2SetReal` that breaks it is refused at the call).
 ///
 /// ```
 /// use bgdsl_fmi_core::ModelEntry;
@@ -21,7 +23,8 @@ use crate::model::{Adapter, Exportable, FmuModel};
 pub struct ModelEntry {
     identifier: &'static str,
     describe: fn() -> ModelDescription,
-    create: fn() -> Box<dyn FmuModel>,
+    create: fn(ParameterCheck) -> Box<dyn FmuModel>,
+    check: ParameterCheck,
 }
 
 impl ModelEntry {
@@ -32,7 +35,14 @@ impl ModelEntry {
             identifier,
             describe: ModelDescription::of::<M>,
             create: Adapter::<M>::boxed,
+            check: finite_only,
         }
+    }
+
+    /// The same entry with `check` as the rule for the parameter values an importer
+    /// sets (see [`ParameterCheck`]).
+    pub const fn with_check(self, check: ParameterCheck) -> Self {
+        ModelEntry { check, ..self }
     }
 
     /// The `modelIdentifier`.
@@ -45,9 +55,10 @@ impl ModelEntry {
         (self.describe)()
     }
 
-    /// A fresh model with its default parameters and inputs.
+    /// A fresh model with its default parameters and inputs, checking the values set
+    /// later with the entry's rule.
     pub fn create(&self) -> Box<dyn FmuModel> {
-        (self.create)()
+        (self.create)(self.check)
     }
 }
 

@@ -7,11 +7,17 @@
 //!
 //! | block | name | causality | variability |
 //! |---|---|---|---|
-//! | states | `spring.q` | `local` (initial `calculated`) | `continuous` |
+//! | states | `spring.q` | `local` (initial `exact`, settable before initialisation ends) | `continuous` |
 //! | state derivatives | `der(spring.q)` | `local` | `continuous` |
 //! | outputs | `x` | `output` | `continuous` |
 //! | parameters, flattened | `k`, `l1[1]`, `l1[2]`, `l1[3]` | `parameter` | `tunable` |
 //! | inputs | `torque` | `input` (with a start value) | `continuous` |
+//!
+//! A state's start value is the model's initial state at the default parameters. An
+//! importer may set it (`fmi2SetReal` in Instantiated or Initialization Mode, as
+//! `initial="exact"` allows); a state it does not set starts where the model's declared
+//! initial conditions put it for the parameters as set (so a changed geometry still
+//! assembles).
 //!
 //! A parameter of several numbers (`param l1: [f64; 3]`) becomes one variable per
 //! number, indexed from 1 as the structured naming convention has it (`l1[1]` is
@@ -64,8 +70,8 @@ pub struct Variable {
     pub unit: &'static str,
     /// Its description (a parameter's or input's doc comment), possibly empty.
     pub description: String,
-    /// Its start value: the default of a parameter or input; `None` for the rest,
-    /// which the FMU calculates.
+    /// Its start value: the default of a parameter or input, the initial state (at the
+    /// default parameters) of a state; `None` for the rest, which the FMU calculates.
     pub start: Option<f64>,
 }
 
@@ -86,6 +92,8 @@ impl Variables {
         defaults.parameter_values(&mut parameter_starts);
         let mut input_starts = vec![0.0; sizes.inputs];
         defaults.input_values(&mut input_starts);
+        let mut state_starts = vec![0.0; sizes.states];
+        defaults.initial_state(&mut state_starts);
 
         let mut all = Vec::new();
         let mut push = |name: String, role, unit, description: &str, start| {
@@ -99,7 +107,13 @@ impl Variables {
             })
         };
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
-            push(name.to_string(), Role::State(i), "", "", None);
+            push(
+                name.to_string(),
+                Role::State(i),
+                "",
+                "",
+                Some(state_starts[i]),
+            );
         }
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
             push(format!("der({name})"), Role::Derivative(i), "", "", None);

@@ -95,7 +95,8 @@ fn index(v: &Variable) -> u64 {
 
 fn scalar_variable(x: &mut String, d: &ModelDescription, v: &Variable) {
     let (causality, variability, initial) = match v.role {
-        Role::State(_) | Role::Derivative(_) => ("local", "continuous", Some("calculated")),
+        Role::State(_) => ("local", "continuous", Some("exact")),
+        Role::Derivative(_) => ("local", "continuous", Some("calculated")),
         Role::Output(_) => ("output", "continuous", Some("calculated")),
         Role::Parameter(_) => ("parameter", "tunable", Some("exact")),
         Role::Input(_) => ("input", "continuous", None),
@@ -133,8 +134,9 @@ fn scalar_variable(x: &mut String, d: &ModelDescription, v: &Variable) {
 }
 
 /// `ModelStructure`: the outputs, the state derivatives, and what initialisation
-/// computes (outputs, states and derivatives, all `initial="calculated"`). No
-/// `dependencies` attributes: every unknown may depend on every known.
+/// computes (outputs and derivatives, `initial="calculated"`; the states are
+/// `initial="exact"`, so not unknowns). No `dependencies` attributes: every unknown may
+/// depend on every known.
 fn model_structure(x: &mut String, d: &ModelDescription) {
     let all = d.variables.all();
     let of = |keep: fn(Role) -> bool| -> Vec<u64> {
@@ -142,7 +144,7 @@ fn model_structure(x: &mut String, d: &ModelDescription) {
     };
     let outputs = of(|r| matches!(r, Role::Output(_)));
     let derivatives = of(|r| matches!(r, Role::Derivative(_)));
-    let initial = of(|r| matches!(r, Role::Output(_) | Role::State(_) | Role::Derivative(_)));
+    let initial = of(|r| matches!(r, Role::Output(_) | Role::Derivative(_)));
     x.push_str("  <ModelStructure>\n");
     for (element, list) in [
         ("Outputs", outputs),

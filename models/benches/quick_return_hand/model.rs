@@ -53,7 +53,9 @@
 //! # Outputs
 //!
 //! The spec's results-file columns after `t`, in its order (`crank_angle` is
-//! `atan2(R1_21, R1_22)` in (−π, π], not unwrapped; the orientation matrices column by
+//! `atan2(R1_21, R1_22)` unwrapped: that angle plus the whole turns that bring it
+//! nearest to the angle the crank turned through, the drive's `theta0 + w_drive t` less
+//! the drive coupling's twist `K_C.q_z`; the orientation matrices column by
 //! column; each force or torque the one the named coupling exerts on the named link),
 //! then `E_stored` (kinetic + spring + gravitational, zero height at y = 0), `P_in`
 //! (power the drive source delivers: `Tc · (0, 0, w_drive)`) and `P_diss` (all
@@ -758,7 +760,7 @@ impl Model for QuickReturnHand {
         }
     }
 
-    fn outputs<T: Scalar>(&self, _t: f64, x: &[T], y: &mut [T]) {
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]) {
         let p = &self.params;
         let e = self.evaluate(x);
         let masses = p.masses();
@@ -773,7 +775,14 @@ impl Model for QuickReturnHand {
             ]
         };
         let r1 = &e.rot[0];
-        put(&[r1[1][0].atan2(r1[1][1])]);
+        let wrapped = r1[1][0].atan2(r1[1][1]);
+        let turned = p.theta0 + p.w_drive * t - x[coupling_at(KC) + 2].to_f64();
+        let turns = ((turned - wrapped.to_f64()) / core::f64::consts::TAU).round();
+        put(&[if turns == 0.0 {
+            wrapped
+        } else {
+            wrapped + c::<T>(turns * core::f64::consts::TAU)
+        }]);
         put(&columns(r1));
         put(&e.h[0]);
         put(&neg(e.effort[K01]));

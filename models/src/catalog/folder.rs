@@ -48,11 +48,7 @@ impl RunFolder {
         check_replaceable(destination)?;
         check_replaceable(&partial_path(destination))?;
         let (parent, name) = split(destination)?;
-        fs::create_dir_all(&parent).map_err(|source| RunError::Io {
-            path: parent.clone(),
-            action: "creating the output folder's parent",
-            source,
-        })?;
+        super::run::create_dir(&parent)?;
         remove_abandoned(&parent, &name);
         remove_abandoned(&parent, &format!("{name}.partial"));
         let staging_path = parent.join(format!(".{name}.staging-{}", std::process::id()));

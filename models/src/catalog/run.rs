@@ -5,7 +5,7 @@
 
 use core::fmt;
 use std::io;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -254,6 +254,20 @@ pub(super) fn interrupted_after_integrating(observer: &dyn Observer) -> Option<S
     observer
         .stop_requested()
         .then(|| "interrupted while writing the results and drawing the figures".to_owned())
+}
+
+/// Creates the output directory `dir` with any missing folders above it: the one rule
+/// for every `--out` (a run, a sweep, and the folder of `models fmu`'s file).
+///
+/// # Errors
+///
+/// [`RunError::Io`] naming `dir`.
+pub fn create_dir(dir: &Path) -> Result<(), RunError> {
+    std::fs::create_dir_all(dir).map_err(|source| RunError::Io {
+        path: dir.to_path_buf(),
+        action: "creating the output directory",
+        source,
+    })
 }
 
 /// What the integration produced.

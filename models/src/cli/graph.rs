@@ -31,7 +31,7 @@ fn to_svg(dot: &str) -> Result<String, Failure> {
         .spawn()
         .map_err(|e| {
             if e.kind() == std::io::ErrorKind::NotFound {
-                Failure::Other(
+                Failure::Prerequisite(
                     "--svg needs Graphviz's `dot` program, which is not on the PATH: install \
                      Graphviz (e.g. `apt-get install graphviz`), or omit --svg to get the DOT \
                      text"

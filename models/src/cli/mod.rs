@@ -17,6 +17,7 @@
 //! | 0 | success |
 //! | 1 | the run failed or was interrupted (a first SIGINT, SIGTERM or SIGHUP): its partial set is in `<out>.partial/` and `<out>` is untouched; or the set could not be written (nothing changed), or `dot` failed |
 //! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`; nothing was written |
+//! | 69 | a missing external prerequisite, nothing written: Graphviz's `dot` for `graph --svg`, the FMI library (`libbgdsl_fmi.so`, missing or built from other model code) for `fmu` (69 is `EX_UNAVAILABLE` of `sysexits.h`) |
 //! | 130 | a second signal (SIGINT, SIGTERM or SIGHUP) during a run: the staging folder is removed, `<out>` and `<out>.partial/` are untouched |
 //!
 //! Errors go to stderr, one line each (a scenario with several errors gives several
@@ -48,8 +49,9 @@ pub use progress::{install_interrupt_handler, Progress};
         Without a command, runs the flagship (the quick return mechanism, 0-5 s) and writes \
         out/quick_return/.\n\nExit status: 0 success; 1 the run failed part-way or was \
         interrupted (partial results in <out>.partial/, <out> untouched) or output could \
-        not be written; 2 usage or validation error (nothing written); 130 a second \
-        SIGINT/SIGTERM (nothing temporary left)."
+        not be written; 2 usage or validation error (nothing written); 69 a missing \
+        external prerequisite (Graphviz's `dot` for `graph --svg`, the FMI library for \
+        `fmu`; nothing written); 130 a second SIGINT/SIGTERM (nothing temporary left)."
 )]
 pub struct Cli {
     /// What to do (default: run the quick return mechanism).
@@ -83,7 +85,8 @@ pub enum Command {
     Fmu {
         /// The model (see `models list`).
         model: String,
-        /// The FMU file, or a folder to write `<model>.fmu` into (default: out/fmu/).
+        /// The FMU file (a name ending in .fmu), or a folder to write `<model>.fmu`
+        /// into (default: out/fmu/). Missing folders are created, as `run --out` does.
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -157,15 +160,20 @@ pub enum Failure {
         /// The partial results file.
         file: Option<PathBuf>,
     },
+    /// A program or file the command needs from outside is missing or unusable
+    /// (Graphviz's `dot`, the FMI library); nothing was written.
+    Prerequisite(String),
     /// Something else failed (writing to stdout, running `dot`).
     Other(String),
 }
 
 impl Failure {
-    /// The exit status: 2 for usage and validation errors, 1 for the rest.
+    /// The exit status: 2 for usage and validation errors, 69 for a missing
+    /// prerequisite (`EX_UNAVAILABLE`), 1 for the rest.
     pub fn exit_code(&self) -> u8 {
         match self {
             Failure::Usage(_) | Failure::Invalid(_) | Failure::Run(RunError::NotOurs { .. }) => 2,
+            Failure::Prerequisite(_) => 69,
             Failure::Run(_) | Failure::Partial { .. } | Failure::Other(_) => 1,
         }
     }
@@ -174,7 +182,9 @@ impl Failure {
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Failure::Usage(message) | Failure::Other(message) => f.write_str(message),
+            Failure::Usage(message) | Failure::Prerequisite(message) | Failure::Other(message) => {
+                f.write_str(message)
+            }
             Failure::Invalid(d) => write!(f, "{d}"),
             Failure::Run(e) => write!(f, "{e}"),
             Failure::Partial { reason, file } => {

@@ -3,8 +3,22 @@
 //! (Fig. 2): five rigid links, the points where they meet, nine spring-damper joints
 //! (seven translational, two rotational) and the 5 rad/s drive.
 
-use bgdsl_runtime::bond_graph;
 use bgdsl_runtime::multibond::{box_inertia, diag3, rot_z, vec3, Matrix3, Vector3};
+use bgdsl_runtime::{bond_graph, Scalar};
+
+/// The angle `wrapped` (in (−π, π], from `atan2`) plus the whole turns that bring it
+/// nearest to `near`: `wrapped + 2π·round((near − wrapped) / 2π)`. So the result is
+/// always `atan2`'s angle plus whole turns, continued without jumps as long as `near`
+/// stays within π of the true angle. The turns are a constant (no derivative flows
+/// through them).
+pub fn unwrapped_angle<T: Scalar>(wrapped: T, near: T) -> T {
+    let turns = ((near.to_f64() - wrapped.to_f64()) / core::f64::consts::TAU).round();
+    if turns == 0.0 {
+        wrapped
+    } else {
+        wrapped + T::from_f64(turns * core::f64::consts::TAU)
+    }
+}
 
 /// Where every link starts: the mechanism assembled at crank angle `theta0` with every
 /// joint unstretched (spec, "Geometry").
@@ -148,7 +162,18 @@ bond_graph! {
 
         // The results file of the spec, column for column (forces: the named joint's on
         // the named link; a joint pushes its second port with +e, its first with -e).
-        output crank_angle = crank.R.m21.atan2(crank.R.m22);
+        /// The crank angle about Z0, rad: the spec's `atan2(R1[1][0], R1[1][1])`
+        /// unwrapped, starting at `theta0` (π/2). It is exactly `atan2`'s angle plus the
+        /// whole turns that bring it nearest to the angle the crank has turned through:
+        /// the drive's angle `theta0 + w_drive t` less the drive coupling's twist
+        /// `jC.spring.q_z` (a state: the integral of the drive's speed less the
+        /// crank's). So it runs on without jumps through every turn, the same in the
+        /// results file, the figures, a `Stepper` and the FMU. The drive's angle counts
+        /// from t = 0 at the current `w_drive`: a run that starts later, or changes
+        /// `w_drive` part-way (an FMU's tunable parameter), still gets atan2's angle
+        /// plus whole turns, offset by the turns the drive's angle counts there.
+        output crank_angle = unwrapped_angle(crank.R.m21.atan2(crank.R.m22),
+            theta0 + w_drive * t - jC.spring.q.z);
         output R1: Matrix3 = crank.R;
         output h1: Vector3 = crank.rotation.p;
         output F_O1: Vector3 = -j01.rel.e;
@@ -180,5 +205,66 @@ bond_graph! {
             + j23r.damper.e.dot(&j23r.damper.f) + jC.damper.e.dot(&jC.damper.f)
             + j34.damper.e.dot(&j34.damper.f) + j45.damper.e.dot(&j45.damper.f)
             + j5C.damper.e.dot(&j5C.damper.f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bgdsl_runtime::Model;
+
+    /// The initial state of `model` with the crank turned to `angle` (its orientation
+    /// only: what `crank_angle` reads) and the drive coupling twisted by `twist`.
+    fn turned(model: &QuickReturn, angle: f64, twist: f64) -> Vec<f64> {
+        let mut x = vec![0.0; QuickReturn::N_STATES];
+        model.initial_state(&mut x);
+        let r = rot_z(angle);
+        for (k, name) in QuickReturn::STATE_NAMES.iter().enumerate() {
+            if let Some(ij) = name.strip_prefix("crank.R_") {
+                let (i, j) = (ij.as_bytes()[0] - b'1', ij.as_bytes()[1] - b'1');
+                x[k] = r[(usize::from(i), usize::from(j))];
+            }
+            if *name == "jC.spring.q_z" {
+                x[k] = twist;
+            }
+        }
+        x
+    }
+
+    fn crank_angle(model: &QuickReturn, t: f64, x: &[f64]) -> f64 {
+        let mut y = vec![0.0; QuickReturn::N_OUTPUTS];
+        model.outputs::<f64>(t, x, &mut y);
+        y[QuickReturn::OUTPUT_NAMES
+            .iter()
+            .position(|n| *n == "crank_angle")
+            .unwrap()]
+    }
+
+    /// Whatever the time and the twist, the output is atan2's angle plus the whole
+    /// turns the crank made: the drive's angle less the twist, to within the half turn
+    /// that picks the branch.
+    #[test]
+    fn crank_angle_is_atan2_plus_the_turns_the_crank_made() {
+        let model = QuickReturn::default();
+        let (theta0, w) = (model.params.theta0, model.params.w_drive);
+        for t in [0.0, 0.7, 3.9, 25.0] {
+            for twist in [-1.0, 0.0, 0.5, 1.0] {
+                let angle = theta0 + w * t - twist;
+                // The crank's orientation a little off what the twist says (the
+                // integration's drift): the branch is the same.
+                for drift in [-1.0, 0.0, 1.0] {
+                    let x = turned(&model, angle + drift, twist);
+                    let got = crank_angle(&model, t, &x);
+                    let expected = angle + drift;
+                    assert!(
+                        (got - expected).abs() < 1e-12 * expected.abs().max(1.0),
+                        "t = {t}, twist {twist}, drift {drift}: {got} vs {expected}"
+                    );
+                }
+            }
+        }
+        let mut x0 = vec![0.0; QuickReturn::N_STATES];
+        model.initial_state(&mut x0);
+        assert_eq!(crank_angle(&model, 0.0, &x0), theta0);
     }
 }

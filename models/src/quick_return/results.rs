@@ -8,13 +8,12 @@
 //! to the same `f64` (plain notation from 1e-5 to 1e16, scientific outside).
 //!
 //! Each column after `t` is the model's output of the same name, looked up once when the
-//! recorder is made, except that `crank_angle`, which the spec defines as
-//! `atan2(R1[1][0], R1[1][1])` *unwrapped, starting at π/2*, is unwrapped by the
-//! recorder: it starts at the model's value at the first sample and adds the multiple of
-//! 2π that keeps each step between samples within (−π, π]. A model that already outputs
-//! the unwrapped angle is recorded unchanged.
+//! recorder is made, and recorded unchanged. So `crank_angle`, which the spec defines as
+//! `atan2(R1[1][0], R1[1][1])` *unwrapped, starting at π/2*, is the model's output of
+//! that name, which is already unwrapped (see
+//! [`QuickReturn`](super::QuickReturn)'s `crank_angle`): the file, the figures, a
+//! `Stepper` and the FMU all read the same angle.
 
-use std::f64::consts::TAU;
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -88,7 +87,8 @@ pub const COLUMNS: [&str; N_COLUMNS] = [
 /// The number of columns, `t` included.
 pub const N_COLUMNS: usize = 56;
 
-/// The column the recorder unwraps.
+/// The crank angle's column (unwrapped by the model, see the [module
+/// documentation](self)).
 pub const CRANK_ANGLE: &str = "crank_angle";
 
 /// The last sample time, s.
@@ -136,7 +136,7 @@ pub fn missing_outputs<M: Model>() -> Vec<&'static str> {
 
 /// The results-file columns of a run, in memory: a [`Recorder`] for one model type that
 /// keeps, at every sample, the time and the 55 outputs the file needs, in the file's
-/// order, with `crank_angle` unwrapped (see the [module documentation](self)).
+/// order.
 ///
 /// Made with room for a number of samples ([`Results::for_model`]), recording allocates
 /// nothing until that room is used up (it then grows like a `Vec`).
@@ -147,12 +147,7 @@ pub struct Results {
     n_outputs: usize,
     /// For each column after `t`, its index in the model's outputs.
     source: [usize; N_COLUMNS - 1],
-    /// Index of `crank_angle` in [`COLUMNS`].
-    crank: usize,
     columns: Vec<Vec<f64>>,
-    /// The last raw (model) crank angle and the whole turns added to it.
-    last_raw_angle: f64,
-    turns: i64,
 }
 
 impl Results {
@@ -182,12 +177,9 @@ impl Results {
             model: M::NAME,
             n_outputs: M::N_OUTPUTS,
             source,
-            crank: column_index(CRANK_ANGLE).expect("a column of the file"),
             columns: (0..N_COLUMNS)
                 .map(|_| Vec::with_capacity(capacity))
                 .collect(),
-            last_raw_angle: 0.0,
-            turns: 0,
         })
     }
 
@@ -211,12 +203,9 @@ impl Results {
         self.columns.iter().map(Vec::capacity).min().unwrap_or(0)
     }
 
-    /// Forgets the samples (keeping the memory) and restarts the unwrapping of the
-    /// crank angle: the next sample starts a new run.
+    /// Forgets the samples (keeping the memory): the next sample starts a new run.
     pub fn clear(&mut self) {
         self.columns.iter_mut().for_each(Vec::clear);
-        self.last_raw_angle = 0.0;
-        self.turns = 0;
     }
 
     /// The sample times.
@@ -291,29 +280,9 @@ impl Recorder for Results {
             "the results of model `{}` were given another model's outputs",
             self.model
         );
-        let angle = self.unwrap_angle(y[self.source[self.crank - 1]]);
         self.columns[0].push(t);
-        for (i, &from) in self.source.iter().enumerate() {
-            let column = i + 1;
-            let value = if column == self.crank { angle } else { y[from] };
-            self.columns[column].push(value);
-        }
-    }
-}
-
-impl Results {
-    /// The crank angle continued from the previous sample: `raw` plus the whole turns
-    /// that keep the step from the previous raw value within (−π, π].
-    fn unwrap_angle(&mut self, raw: f64) -> f64 {
-        if !self.is_empty() && raw.is_finite() && self.last_raw_angle.is_finite() {
-            let jump = raw - self.last_raw_angle;
-            self.turns -= (jump / TAU).round() as i64;
-        }
-        self.last_raw_angle = raw;
-        if self.turns == 0 {
-            raw
-        } else {
-            raw + self.turns as f64 * TAU
+        for (column, &from) in self.columns[1..].iter_mut().zip(&self.source) {
+            column.push(y[from]);
         }
     }
 }
@@ -324,7 +293,8 @@ mod tests {
     use bgdsl_runtime::Scalar;
 
     /// A stand-in model with every column as an output (in reverse order, plus one
-    /// more), whose crank turns at 5 rad/s from π/2, reported in (−π, π].
+    /// more), whose crank turns at 5 rad/s from π/2, reported in (−π, π] (so that a
+    /// recorder that unwrapped it would be seen).
     struct Stub;
 
     const fn stub_outputs() -> [&'static str; N_COLUMNS] {
@@ -407,7 +377,7 @@ mod tests {
     }
 
     #[test]
-    fn picks_columns_by_name_and_unwraps_the_crank_angle() {
+    fn picks_columns_by_name_and_records_them_unchanged() {
         let mut results = Results::for_model::<Stub>(N_ROWS).unwrap();
         let mut sim =
             bgdsl_runtime::Simulation::new(&Stub, bgdsl_runtime::Solver::rk4(1e-3)).unwrap();
@@ -430,9 +400,11 @@ mod tests {
                 .all(|&v| v == at as f64));
             assert_eq!(results.column_at(i), results.column(name).unwrap());
         }
+        // The model's angle as it gives it: wrapped, here.
         let angle = results.column(CRANK_ANGLE).unwrap();
         for (k, (&a, &t)) in angle.iter().zip(&times).enumerate() {
-            let expected = core::f64::consts::FRAC_PI_2 + 5.0 * t;
+            let turned = core::f64::consts::FRAC_PI_2 + 5.0 * t;
+            let expected = turned.sin().atan2(turned.cos());
             assert!((a - expected).abs() < 1e-9, "row {k}: {a} vs {expected}");
         }
 

@@ -7,6 +7,7 @@ use bgdsl_runtime::bond_graph;
 use bgdsl_runtime::multibond::{box_inertia, diag3, vec3};
 
 use super::assembly;
+use super::model::unwrapped_angle;
 
 bond_graph! {
     /// The quick return mechanism with a torque-driven crank.
@@ -119,8 +120,13 @@ bond_graph! {
 
         /// Crank speed about Z0, rad/s.
         output crank_speed: f64 = crank.w.f.z;
-        /// Crank angle, rad (wrapped to (−π, π]).
-        output crank_angle: f64 = crank.R.m21.atan2(crank.R.m22);
+        /// Crank angle about Z0, rad, unwrapped from `theta0` as the speed-driven
+        /// model's: `atan2(R1[1][0], R1[1][1])` plus the whole turns that bring it
+        /// nearest to the angle the crank turned through, which the bearing's spring
+        /// state about Z0 already integrates (its deflection is `−∫ w_z dt`, as
+        /// nothing holds that axis).
+        output crank_angle: f64 = unwrapped_angle(crank.R.m21.atan2(crank.R.m22),
+            theta0 - bearing.spring.q.z);
         /// Output slider position along X0, m.
         output slider_x: f64 = output_slider.r.x;
         /// The motor's power, W.
@@ -276,4 +282,42 @@ fn mechanism_energy(stepper: &bgdsl_runtime::Stepper<QuickReturnTorque>) -> f64 
     })
     .sum();
     stored + heights
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bgdsl_runtime::multibond::rot_z;
+    use bgdsl_runtime::Model;
+    use core::f64::consts::TAU;
+
+    /// The bearing's spring about Z0 holds minus the angle the crank turned through,
+    /// so the output follows the crank through whole turns, as the speed-driven
+    /// model's does.
+    #[test]
+    fn crank_angle_is_unwrapped_by_the_bearing_state() {
+        let model = QuickReturnTorque::default();
+        let theta0 = model.params.theta0;
+        let angle = theta0 + 0.3 + 2.0 * TAU;
+        let mut x = vec![0.0; QuickReturnTorque::N_STATES];
+        model.initial_state(&mut x);
+        let r = rot_z(angle);
+        for (k, name) in QuickReturnTorque::STATE_NAMES.iter().enumerate() {
+            if let Some(ij) = name.strip_prefix("crank.R_") {
+                let (i, j) = (ij.as_bytes()[0] - b'1', ij.as_bytes()[1] - b'1');
+                x[k] = r[(usize::from(i), usize::from(j))];
+            }
+            if *name == "bearing.spring.q_z" {
+                x[k] = -(angle - theta0);
+            }
+        }
+        let mut y = vec![0.0; QuickReturnTorque::N_OUTPUTS];
+        model.outputs::<f64>(0.0, &x, &mut y);
+        let outputs = QuickReturnTorqueOutputs::from_slice(&y);
+        assert!(
+            (outputs.crank_angle - angle).abs() < 1e-12,
+            "{}",
+            outputs.crank_angle
+        );
+    }
 }

@@ -1,0 +1,99 @@
+//! How to export your own bond-graph model as an FMI 2.0 FMU, as a crate of its own
+//! (the README's "Export your own model as an FMU" walks through it).
+//!
+//! Three things make an FMU of a model:
+//!
+//! 1. the model, written with `bond_graph!` ([`Room`]);
+//! 2. a shared library (this crate, built as a `cdylib`) that exports the FMI 2.0 C
+//!    interface for it: a registry of the models it serves ([`MODELS`]) and one
+//!    `export_fmi2!` invocation;
+//! 3. a program that packs `modelDescription.xml` and that library into the `.fmu`
+//!    file ([`write_fmu`], run by `src/main.rs`).
+//!
+//! ```sh
+//! cargo run --release -p bgdsl-fmi-example -- room.fmu
+//! ```
+#![warn(missing_docs)]
+
+use std::path::{Path, PathBuf};
+
+use bgdsl_fmi_core::{FmuError, ModelDescription, ModelEntry};
+use bgdsl_runtime::bond_graph;
+
+bond_graph! {
+    /// A room warmed by a heater the host switches, losing heat through its walls:
+    /// efforts are temperatures above outdoors (K), flows heat flows (W).
+    pub model Room {
+        /// heat capacity of the air and furnishings
+        param capacity = 5.0e5 in "J/K";
+        /// thermal resistance of the walls
+        param walls = 0.01 in "K/W";
+        /// outdoor temperature
+        param outdoor = 5.0 in "degC";
+        /// the heater's power, which the host sets
+        input heating = 1000.0 in "W";
+
+        MSf heater = heating;
+        C air = 1.0 / capacity;  // temperature rise e = q / capacity, q the heat stored
+        R wall = walls;          // heat lost f = e / walls
+        0 room;
+        heater -> room -> { air, wall };
+
+        /// the room's temperature
+        output temperature = outdoor + air.e;
+        /// the heat flowing out through the walls
+        output loss = wall.f;
+    }
+}
+
+/// The models this library serves, each with its `modelIdentifier` (the FMU's binary
+/// is `binaries/<platform>/<identifier>.so`). A library may serve several models;
+/// `fmi2Instantiate` picks one by the GUID in the FMU's `modelDescription.xml`.
+pub static MODELS: &[ModelEntry] = &[ModelEntry::new::<Room>("room")
+    // Refuse a value the model cannot run with when the host sets it.
+    .with_check(check_room)];
+
+bgdsl_fmi_core::export_fmi2!(MODELS);
+
+/// The room's rule for its parameters (in [`bgdsl_runtime::Model::parameter_values`]
+/// order: capacity, walls, outdoor): a positive capacity and wall resistance.
+///
+/// # Errors
+///
+/// A message naming the parameter and the rule.
+pub fn check_room(values: &[f64]) -> Result<(), String> {
+    for (name, value) in [("capacity", values[0]), ("walls", values[1])] {
+        if value <= 0.0 {
+            return Err(format!("{name} must be > 0, found {value}"));
+        }
+    }
+    Ok(())
+}
+
+/// The shared library this crate builds, beside the running program (`cargo build`
+/// puts both in `target/<profile>/`), or in `deps/` below it (where `cargo test`
+/// leaves it without copying it up).
+pub fn library_beside(program: &Path) -> PathBuf {
+    let name = format!(
+        "{}room_fmu{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    );
+    let beside = program.with_file_name(&name);
+    let in_deps = program.with_file_name("deps").join(&name);
+    if !beside.is_file() && in_deps.is_file() {
+        in_deps
+    } else {
+        beside
+    }
+}
+
+/// Writes the room's FMU to `out` (a file, or a folder for `room.fmu`) with `library`
+/// as its binary; returns the file written.
+///
+/// # Errors
+///
+/// The library is missing, does not serve the model, or the file cannot be written.
+pub fn write_fmu(library: &Path, out: &Path) -> Result<PathBuf, FmuError> {
+    bgdsl_fmi_core::write_fmu(&ModelDescription::of::<Room>(), "room", library, out)
+}
