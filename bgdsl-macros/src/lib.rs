@@ -23,6 +23,7 @@ mod signals;
 mod split;
 mod stdlib;
 mod syntax;
+mod units;
 
 /// Compiles a textual bond graph into a simulation model.
 ///
