@@ -92,7 +92,7 @@ pub use figures::figure_ids;
 pub use params::{describe_value, format_value, parse_value, set_parameter};
 pub use physics::Catalogued;
 pub use run::{Observer, Outcome, Plots, RunError, RunPlan, Silent};
-pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
+pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;
 use crate::quick_return::QuickReturn;
@@ -150,6 +150,12 @@ pub trait CatalogModel: Sync {
     fn state_names(&self) -> &'static [&'static str];
     /// The output names, in the order of the output vector.
     fn output_names(&self) -> &'static [&'static str];
+    /// The states with their units and docs (`Model::STATES`), in the order of the
+    /// state vector.
+    fn states(&self) -> &'static [bgdsl_runtime::SignalInfo];
+    /// The outputs with their units and docs (`Model::OUTPUTS`), in the order of the
+    /// output vector.
+    fn outputs(&self) -> &'static [bgdsl_runtime::SignalInfo];
     /// What is wrong with `params` (which must hold every parameter, each of the right
     /// shape, as [`set_parameter`] keeps them): non-finite numbers and the model's
     /// physical checks. Empty when the model can run with them.

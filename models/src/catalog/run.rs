@@ -12,11 +12,11 @@ use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, 
 use serde::de::DeserializeOwned;
 use serde_yaml::{Mapping, Value};
 
-use super::columns::{all_columns, Table};
+use super::columns::{all_columns, units_path, write_units, Table};
 use super::figures;
 use super::params::format_significant;
 use super::{Catalogued, Column, Entry, ResultsKind};
-use crate::quick_return::results::{Results, FILE_NAME};
+use crate::quick_return::results::{Results, COLUMNS, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
 use crate::quick_return::QuickReturnParams;
@@ -259,7 +259,9 @@ fn write_results(
 ) -> Result<PathBuf, RunError> {
     let path = results_path(dir, stem, partial);
     write(&path)?;
-    remove_stale(&results_path(dir, stem, !partial))?;
+    let other = results_path(dir, stem, !partial);
+    remove_stale(&other)?;
+    remove_stale(&units_path(&other))?;
     Ok(path)
 }
 
@@ -346,6 +348,7 @@ where
     create_dir(&plan.out_dir)?;
     let dir = plan.out_dir.as_path();
     let mut files = Vec::new();
+    let mut unit_files = Vec::new();
     let writing = Instant::now();
     let stem = if quick {
         FILE_NAME.trim_end_matches(".csv")
@@ -356,6 +359,8 @@ where
         files.push(write_results(dir, stem, partial, |path| {
             results.write_csv(path).map_err(RunError::Results)
         })?);
+        // The units of its columns beside it (see `columns::write_units`).
+        unit_files.push(write_units(entry.model, &files[files.len() - 1], &COLUMNS)?);
     }
     let table_stem = if quick {
         format!("{stem}_extra")
@@ -363,12 +368,19 @@ where
         stem.to_owned()
     };
     match &table {
-        Some(table) => files.push(write_results(dir, &table_stem, partial, |path| {
-            table.write_csv(path).map_err(RunError::from)
-        })?),
+        Some(table) => {
+            files.push(write_results(dir, &table_stem, partial, |path| {
+                table.write_csv(path).map_err(RunError::from)
+            })?);
+            let results = &files[files.len() - 1];
+            unit_files.push(write_units(entry.model, results, &table.names())?);
+        }
         None => {
-            remove_stale(&results_path(dir, &table_stem, false))?;
-            remove_stale(&results_path(dir, &table_stem, true))?;
+            for partial in [false, true] {
+                let stale = results_path(dir, &table_stem, partial);
+                remove_stale(&stale)?;
+                remove_stale(&units_path(&stale))?;
+            }
         }
     }
     let write_time = writing.elapsed();
