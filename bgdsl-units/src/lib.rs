@@ -9,7 +9,7 @@
 //! # Grammar
 //!
 //! ```text
-//! unit   := "1" | term (op term)*         "1": dimensionless
+//! unit   := term (op term)*               "1" is a term: dimensionless, "1/s"
 //! op     := "·" | "⋅" | "*" | "/"          a "/" divides by the next term only:
 //!                                         "N·s/m" = N·s·m⁻¹, "m/s/s" = m·s⁻²
 //! term   := prefix? symbol power?
@@ -110,6 +110,7 @@ const PI: f64 = core::f64::consts::PI;
 
 /// Symbols and their value in SI. `g` is 1e-3 kg so that `kg`, `mg` work as prefixes.
 const SYMBOLS: &[(&str, Unit)] = &[
+    ("1", unit([0; 8], 1.0)),
     ("g", unit([1, 0, 0, 0, 0, 0, 0, 0], 1e-3)),
     ("m", unit([0, 1, 0, 0, 0, 0, 0, 0], 1.0)),
     ("s", unit([0, 0, 1, 0, 0, 0, 0, 0], 1.0)),
@@ -448,6 +449,7 @@ mod should {
         assert_eq!(parse("min").unwrap().factor, 60.0);
         assert_eq!(exponents("Pa"), exponents("N/m²"));
         assert_eq!(parse("1").unwrap(), Unit::ONE);
+        assert_eq!(exponents("1/s"), exponents("Hz"));
     }
 
     #[test]

@@ -60,8 +60,9 @@ pub struct Variable {
     pub value_reference: ValueReference,
     /// What it is.
     pub role: Role,
-    /// Its unit as declared, empty when none was.
-    pub unit: &'static str,
+    /// Its unit as declared, empty when none was (a state derivative's: its state's
+    /// unit per second, `m/s` for `m`).
+    pub unit: String,
     /// Its description (a parameter's or input's doc comment), possibly empty.
     pub description: String,
     /// Its start value: the default of a parameter or input; `None` for the rest,
@@ -98,14 +99,28 @@ impl Variables {
                 start,
             })
         };
+        // Units and descriptions as the model declares them (`Model::STATES`,
+        // `Model::OUTPUTS`); a derivative's unit is its state's per second.
+        let described = |infos: &'static [bgdsl_runtime::SignalInfo], i: usize| {
+            infos.get(i).map_or(("", ""), |info| (info.unit, info.doc))
+        };
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
-            push(name.to_string(), Role::State(i), "", "", None);
+            let (unit, doc) = described(M::STATES, i);
+            push(name.to_string(), Role::State(i), unit.to_string(), doc, None);
         }
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
-            push(format!("der({name})"), Role::Derivative(i), "", "", None);
+            let (unit, _) = described(M::STATES, i);
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!("{unit}/s")
+            };
+            let doc = format!("time derivative of {name}");
+            push(format!("der({name})"), Role::Derivative(i), unit, &doc, None);
         }
         for (i, name) in M::OUTPUT_NAMES.iter().enumerate() {
-            push(name.to_string(), Role::Output(i), "", "", None);
+            let (unit, doc) = described(M::OUTPUTS, i);
+            push(name.to_string(), Role::Output(i), unit.to_string(), doc, None);
         }
         let described: usize = M::PARAMETERS.iter().map(|info| info.len).sum();
         if described == sizes.parameters {
@@ -121,7 +136,7 @@ impl Variables {
                     push(
                         name,
                         Role::Parameter(flat),
-                        info.unit,
+                        info.unit.to_string(),
                         info.doc,
                         Some(start),
                     );
@@ -133,7 +148,7 @@ impl Variables {
             // number them.
             for (i, start) in parameter_starts.iter().enumerate() {
                 let name = format!("parameter[{}]", i + 1);
-                push(name, Role::Parameter(i), "", "", Some(*start));
+                push(name, Role::Parameter(i), String::new(), "", Some(*start));
             }
         }
         for (i, info) in M::INPUTS.iter().enumerate() {
@@ -141,7 +156,7 @@ impl Variables {
             push(
                 info.name.to_string(),
                 Role::Input(i),
-                info.unit,
+                info.unit.to_string(),
                 info.doc,
                 Some(start),
             );
