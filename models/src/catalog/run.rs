@@ -517,7 +517,7 @@ fn trajectory_summary(
             .max(6);
         let _ = writeln!(
             s,
-            "  {:<width$}  {:>14} {:>14} {:>14}",
+            "  {:<width$}  {:>14} {:>14} {:>14}  unit",
             "column", "min", "max", "last"
         );
         for (name, values) in table.columns() {
@@ -528,7 +528,9 @@ fn trajectory_summary(
                 });
             let last = values.last().copied().unwrap_or(f64::NAN);
             let [lo, hi, last] = [lo, hi, last].map(format_significant);
-            let _ = writeln!(s, "  {name:<width$}  {lo:>14} {hi:>14} {last:>14}");
+            let unit = super::columns::column_unit(entry.model, name).0;
+            let line = format!("  {name:<width$}  {lo:>14} {hi:>14} {last:>14}  {unit}");
+            let _ = writeln!(s, "{}", line.trim_end());
         }
     }
     s
