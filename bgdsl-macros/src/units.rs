@@ -356,3 +356,82 @@ fn product(left: Dim, right: Dim, combine: fn(&Unit, &Unit) -> Option<Unit>) -> 
             .map_or(Dim::Unknown, Dim::Known),
     }
 }
+
+#[cfg(test)]
+mod should {
+    /// The expansion of `text` as a string.
+    fn expand(text: &str) -> String {
+        crate::expand::expand(text.parse().unwrap()).to_string()
+    }
+
+    /// The generated `derivatives` and `outputs` functions' text.
+    fn evaluation(expansion: &str) -> &str {
+        let start = expansion.find("fn derivatives").unwrap();
+        let end = expansion.find("fn power_balance").unwrap();
+        &expansion[start..end]
+    }
+
+    const WITH_UNITS: &str = r#"
+        pub model Oscillator {
+            param m = 1.0 in "kg";
+            param k = 100.0 in "N/m";
+            I mass = m, p in "kg·m/s";
+            C spring = k, q in "m";
+            1 v;
+            v -> { mass, spring };
+            output x = spring.q in "mm";
+            output speed = mass.p / m in "m/s";
+        }
+    "#;
+
+    #[test]
+    fn leave_the_evaluation_code_as_it_was() {
+        let without = WITH_UNITS
+            .replace(r#", p in "kg·m/s""#, "")
+            .replace(r#", q in "m""#, "")
+            .replace(r#" in "mm""#, "")
+            .replace(r#" in "m/s""#, "");
+        let with = expand(WITH_UNITS);
+        let without = expand(&without);
+        assert!(
+            with.contains("unit_warning_0"),
+            "the mm output is warned about"
+        );
+        assert!(!without.contains("unit_warning"));
+        assert_eq!(evaluation(&with), evaluation(&without));
+    }
+
+    #[test]
+    fn describe_every_state_and_output() {
+        let with = expand(WITH_UNITS);
+        for entry in [
+            r#"name : "mass.p" , unit : "kg·m/s""#,
+            r#"name : "spring.q" , unit : "m""#,
+            r#"name : "x" , unit : "mm""#,
+            r#"name : "speed" , unit : "m/s""#,
+        ] {
+            assert!(with.contains(entry), "{entry} missing");
+        }
+    }
+
+    #[test]
+    fn lend_a_plain_state_its_unit_and_guess_nothing_else() {
+        let with = expand(
+            r#"
+            pub model M {
+                param m = 1.0 in "kg";
+                I mass = m, p in "kg·m/s";
+                C spring = 1.0;
+                1 v;
+                v -> { mass, spring };
+                output p = mass.p;
+                output q = spring.q;
+                output speed = mass.p / m;
+            }
+        "#,
+        );
+        assert!(with.contains(r#"name : "p" , unit : "kg·m/s""#));
+        assert!(with.contains(r#"name : "q" , unit : """#));
+        assert!(with.contains(r#"name : "speed" , unit : """#));
+    }
+}

@@ -39,7 +39,10 @@ fn params_shows_the_units_and_docs_of_states_and_outputs() {
     assert_eq!(row(text, "spring.q")[..3], ["spring.q", "0.01", "m"]);
     assert_eq!(row(text, "mass.p")[..3], ["mass.p", "0", "kg·m/s"]);
     // name, unit, meaning
-    assert_eq!(row(text, "spring_force")[..3], ["spring_force", "N", "Force"]);
+    assert_eq!(
+        row(text, "spring_force")[..3],
+        ["spring_force", "N", "Force"]
+    );
     assert_eq!(row(text, "energy")[..2], ["energy", "J"]);
 
     let out = run(&["params", "quick_return", "--states", "--outputs"]);
@@ -111,10 +114,11 @@ fn the_quick_return_keeps_its_spec_header_and_lists_units_aside() {
     assert_eq!(csv.lines().next().unwrap(), spec_header());
     let units = fs::read_to_string(dir.join("quick_return.units.csv")).unwrap();
     assert_eq!(units.lines().count(), 1 + COLUMNS.len());
-    for (line, expected) in units.lines().skip(1).zip([
-        "t,s,time",
-        "crank_angle,rad,Crank angle about Z0",
-    ]) {
+    for (line, expected) in units
+        .lines()
+        .skip(1)
+        .zip(["t,s,time", "crank_angle,rad,Crank angle about Z0"])
+    {
         assert_eq!(line, expected);
     }
     let tc_z = units.lines().find(|l| l.starts_with("Tc_z,")).unwrap();

@@ -106,7 +106,13 @@ impl Variables {
         };
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
             let (unit, doc) = described(M::STATES, i);
-            push(name.to_string(), Role::State(i), unit.to_string(), doc, None);
+            push(
+                name.to_string(),
+                Role::State(i),
+                unit.to_string(),
+                doc,
+                None,
+            );
         }
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
             let (unit, _) = described(M::STATES, i);
@@ -116,11 +122,23 @@ impl Variables {
                 format!("{unit}/s")
             };
             let doc = format!("time derivative of {name}");
-            push(format!("der({name})"), Role::Derivative(i), unit, &doc, None);
+            push(
+                format!("der({name})"),
+                Role::Derivative(i),
+                unit,
+                &doc,
+                None,
+            );
         }
         for (i, name) in M::OUTPUT_NAMES.iter().enumerate() {
             let (unit, doc) = described(M::OUTPUTS, i);
-            push(name.to_string(), Role::Output(i), unit.to_string(), doc, None);
+            push(
+                name.to_string(),
+                Role::Output(i),
+                unit.to_string(),
+                doc,
+                None,
+            );
         }
         let described: usize = M::PARAMETERS.iter().map(|info| info.len).sum();
         if described == sizes.parameters {

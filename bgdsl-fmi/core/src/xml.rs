@@ -89,7 +89,10 @@ fn unit_definition(x: &mut String, unit: &str) {
         return;
     };
     let _ = write!(x, "    <Unit name=\"{}\">\n      <BaseUnit", escape(unit));
-    for (name, exponent) in bgdsl_runtime::units::BASE_UNITS.iter().zip(parsed.exponents) {
+    for (name, exponent) in bgdsl_runtime::units::BASE_UNITS
+        .iter()
+        .zip(parsed.exponents)
+    {
         if exponent != 0 {
             let _ = write!(x, " {name}=\"{exponent}\"");
         }
