@@ -26,7 +26,9 @@
 //! - the results: `quick_return.csv` (the spec's file, always its 56 columns) for the
 //!   quick return, `<name>.csv` (`t`, then the recorded states and outputs, all of them
 //!   by default) for the other models, and `quick_return_extra.csv` when a quick return
-//!   run records extra columns;
+//!   run records extra columns; beside each, `<stem>.units.csv`: one row per column of
+//!   the results file (`column,unit,description`), the units and docs the model
+//!   declares (the results file's header row stays plain names);
 //! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
 //!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
 //!   output against time);

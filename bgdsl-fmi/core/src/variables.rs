@@ -13,6 +13,10 @@
 //! | parameters, flattened | `k`, `l1[1]`, `l1[2]`, `l1[3]` | `parameter` | `tunable` |
 //! | inputs | `torque` | `input` (with a start value) | `continuous` |
 //!
+//! Every variable carries the unit and description the model declares
+//! ([`Model::STATES`](bgdsl_runtime::Model::STATES), `OUTPUTS`, `PARAMETERS`, `INPUTS`);
+//! a state derivative's unit is its state's per second (`m/s` for `m`).
+//!
 //! A parameter of several numbers (`param l1: [f64; 3]`) becomes one variable per
 //! number, indexed from 1 as the structured naming convention has it (`l1[1]` is
 //! `l1[0]` in Rust); a matrix is numbered row by row, the order of
