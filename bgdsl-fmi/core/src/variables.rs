@@ -351,7 +351,7 @@ mod should {
             name: name.to_string(),
             value_reference: 0,
             role: Role::Output(0),
-            unit: "",
+            unit: String::new(),
             description: String::new(),
             start: None,
         };
