@@ -82,7 +82,13 @@ fn params_shows_defaults_units_and_docs() {
         "{}",
         states.stdout
     );
-    assert!(states.stdout.contains("\n  energy\n"), "{}", states.stdout);
+    assert!(
+        states
+            .stdout
+            .contains("\n  energy        J     Stored energy"),
+        "{}",
+        states.stdout
+    );
 
     let unknown = run(&["params", "crank"]);
     assert_eq!(unknown.code, Some(2));
@@ -207,15 +213,18 @@ fn scenario_default_writes_the_results_figures_and_index() {
         "the summary is in index.html"
     );
     assert!(index.contains("fig05"));
-    // Nothing else: no temporary files left behind.
-    assert_eq!(names.len(), 2 + 2 * drawn, "{names:?}");
+    // Nothing else (the results, their units, the index): no temporary files left behind.
+    assert_eq!(names.len(), 3 + 2 * drawn, "{names:?}");
 }
 
 #[test]
 fn scenario_g0_runs_without_gravity() {
     let (dir, _) = run_scenario("quick_return_g0", &["--no-plots"]);
     let csv = check_results(&dir.join("quick_return.csv"), 0.3);
-    assert_eq!(files(&dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(
+        files(&dir),
+        ["index.html", "quick_return.csv", "quick_return.units.csv"]
+    );
     // Without gravity the mechanism starts with no load at all.
     assert_eq!(csv.column("F_O1_y")[0], 0.0);
 }
@@ -530,14 +539,24 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&complete);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.csv", "quick_return.units.csv"]
+    );
 
     let failed = run_in(
         &dir,
         &["run", "budget.yaml", "--no-plots", "--out", out_arg],
     );
     assert_eq!(failed.code, Some(1), "stderr:\n{}", failed.stderr);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv"]);
+    assert_eq!(
+        files(&out_dir),
+        [
+            "index.html",
+            "quick_return.partial.csv",
+            "quick_return.partial.units.csv"
+        ]
+    );
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(
@@ -581,7 +600,10 @@ fn a_failing_run_writes_a_partial_file_and_replaces_stale_results() {
         ],
     );
     assert_success(&again);
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.csv"]);
+    assert_eq!(
+        files(&out_dir),
+        ["index.html", "quick_return.csv", "quick_return.units.csv"]
+    );
 }
 
 #[cfg(unix)]
@@ -619,7 +641,14 @@ fn an_interrupted_run_writes_what_it_computed() {
         "{}",
         out.stderr
     );
-    assert_eq!(files(&out_dir), ["index.html", "quick_return.partial.csv"]);
+    assert_eq!(
+        files(&out_dir),
+        [
+            "index.html",
+            "quick_return.partial.csv",
+            "quick_return.partial.units.csv"
+        ]
+    );
     let csv = Csv::read(&out_dir.join("quick_return.partial.csv"));
     assert_eq!(csv.header.join(","), spec_header());
     assert!(csv.rows.len() > 1);
