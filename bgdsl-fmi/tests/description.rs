@@ -300,3 +300,104 @@ fn a_library_that_does_not_serve_the_model_is_refused() {
     );
     assert!(!out.exists());
 }
+
+/// The FMU of `identifier`'s `modelDescription.xml`, as text.
+fn xml_of(identifier: &str) -> String {
+    let entry = MODELS
+        .iter()
+        .find(|e| e.identifier() == identifier)
+        .unwrap_or_else(|| panic!("no model {identifier}"));
+    model_description_xml(&entry.describe(), entry.identifier())
+}
+
+/// The `ScalarVariable` called `name` and its `Real`.
+fn variable<'a, 'i>(
+    doc: &'a roxmltree::Document<'i>,
+    name: &str,
+) -> (roxmltree::Node<'a, 'i>, roxmltree::Node<'a, 'i>) {
+    let node = doc
+        .descendants()
+        .find(|n| n.has_tag_name("ScalarVariable") && n.attribute("name") == Some(name))
+        .unwrap_or_else(|| panic!("no variable {name}"));
+    (node, child(node, "Real"))
+}
+
+#[test]
+fn states_outputs_and_derivatives_carry_the_declared_units_and_docs() {
+    let xml = xml_of("oscillator");
+    let doc = parsed(&xml);
+    let (state, real) = variable(&doc, "spring.q");
+    assert_eq!(real.attribute("unit"), Some("m"));
+    assert_eq!(
+        state.attribute("description"),
+        Some("displacement q of C spring")
+    );
+    let (_, real) = variable(&doc, "der(mass.p)");
+    assert_eq!(real.attribute("unit"), Some("kg·m/s/s"));
+    let (output, real) = variable(&doc, "spring_force");
+    assert_eq!(real.attribute("unit"), Some("N"));
+    assert!(output
+        .attribute("description")
+        .is_some_and(|d| d.starts_with("Force of the spring on the mass")));
+
+    // Vector outputs: every component has the unit; the standard library's states too.
+    let xml = xml_of("quick_return");
+    let doc = parsed(&xml);
+    for name in ["Tc_x", "Tc_y", "Tc_z"] {
+        assert_eq!(variable(&doc, name).1.attribute("unit"), Some("N·m"));
+    }
+    let (state, real) = variable(&doc, "crank.rotation.p_z");
+    assert_eq!(real.attribute("unit"), Some("kg·m²/s"));
+    assert!(state
+        .attribute("description")
+        .is_some_and(|d| d.contains("angular momentum")));
+    // A coupling's deflection is metres or radians: no unit is claimed.
+    assert_eq!(variable(&doc, "j01.spring.q_x").1.attribute("unit"), None);
+}
+
+#[test]
+fn every_unit_is_defined_in_si_base_units() {
+    let base = |xml: &str, unit: &str| -> Vec<(String, String)> {
+        let doc = parsed(xml);
+        let node = doc
+            .descendants()
+            .find(|n| n.has_tag_name("Unit") && n.attribute("name") == Some(unit))
+            .unwrap_or_else(|| panic!("no unit {unit}"));
+        child(node, "BaseUnit")
+            .attributes()
+            .map(|a| (a.name().to_owned(), a.value().to_owned()))
+            .collect()
+    };
+    let pairs = |list: &[(&str, &str)]| -> Vec<(String, String)> {
+        list.iter()
+            .map(|(a, b)| ((*a).to_owned(), (*b).to_owned()))
+            .collect()
+    };
+    let oscillator = xml_of("oscillator");
+    assert_eq!(
+        base(&oscillator, "N"),
+        pairs(&[("kg", "1"), ("m", "1"), ("s", "-2")])
+    );
+    assert_eq!(
+        base(&oscillator, "kg·m/s/s"),
+        pairs(&[("kg", "1"), ("m", "1"), ("s", "-2")])
+    );
+    let motor = xml_of("dc_motor");
+    assert_eq!(
+        base(&motor, "N·m/rad"),
+        pairs(&[("kg", "1"), ("m", "2"), ("s", "-2"), ("rad", "-1")])
+    );
+    // Every unit of every model is read: none is left without its BaseUnit.
+    for entry in MODELS {
+        let xml = model_description_xml(&entry.describe(), entry.identifier());
+        let doc = parsed(&xml);
+        for unit in doc.descendants().filter(|n| n.has_tag_name("Unit")) {
+            assert!(
+                unit.children().any(|n| n.has_tag_name("BaseUnit")),
+                "{}: {:?} has no BaseUnit",
+                entry.identifier(),
+                unit.attribute("name")
+            );
+        }
+    }
+}

@@ -39,6 +39,8 @@ mod split;
 mod stdlib;
 #[path = "../src/syntax.rs"]
 mod syntax;
+#[path = "../src/units.rs"]
+mod units;
 
 use std::hint::black_box;
 use std::str::FromStr;

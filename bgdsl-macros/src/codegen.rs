@@ -51,6 +51,32 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         .collect();
     let n_states = state_names.len();
     let n_outputs = output_names.len();
+    let units = crate::units::check(graph, equations);
+    let signal_infos = |names: &[String], described: Vec<&crate::units::Described>| {
+        let entries = names.iter().zip(described).map(|(name, d)| {
+            let (unit, doc) = (&d.unit, &d.doc);
+            quote!(::bgdsl_runtime::SignalInfo { name: #name, unit: #unit, doc: #doc })
+        });
+        quote!(&[#(#entries),*])
+    };
+    let state_infos = signal_infos(
+        &state_names,
+        equations
+            .states
+            .iter()
+            .zip(&units.states)
+            .flat_map(|(s, d)| std::iter::repeat_n(d, s.shape.len()))
+            .collect(),
+    );
+    let output_infos = signal_infos(
+        &output_names,
+        output_shapes
+            .iter()
+            .zip(&units.outputs)
+            .flat_map(|(shape, d)| std::iter::repeat_n(d, shape.len()))
+            .collect(),
+    );
+    let unit_warnings = &units.warnings;
     let field = |n: &String| format_ident!("{}", n.replace('.', "_"));
     let state_fields: Vec<Ident> = state_names.iter().map(field).collect();
     let state_docs: Vec<String> = state_names.iter().map(|n| format!("`{n}`")).collect();
@@ -132,6 +158,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         with_inputs,
     } = host;
     quote! {
+        #unit_warnings
         #params_struct
         #inputs_struct
 
@@ -170,6 +197,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const NAME: &'static ::core::primitive::str = #name_str;
             const STATE_NAMES: &'static [&'static ::core::primitive::str] = &[#(#state_names),*];
             const OUTPUT_NAMES: &'static [&'static ::core::primitive::str] = &[#(#output_names),*];
+            const STATES: &'static [::bgdsl_runtime::SignalInfo] = #state_infos;
+            const OUTPUTS: &'static [::bgdsl_runtime::SignalInfo] = #output_infos;
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
             #model_items
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
@@ -332,7 +361,8 @@ fn params_ident(name: &Ident) -> Ident {
     format_ident!("{}Params", name)
 }
 
-fn doc_text(attrs: &[syn::Attribute]) -> Option<String> {
+/// The text of the doc comments among `attrs`, lines joined, if there are any.
+pub fn doc_text(attrs: &[syn::Attribute]) -> Option<String> {
     let lines: Vec<String> = attrs
         .iter()
         .filter(|a| a.path().is_ident("doc"))

@@ -40,6 +40,19 @@ pub struct Graph {
     /// Junctions and splitters taken apart into scalar components (see
     /// [`crate::split`]); they keep their names but no bonds.
     pub dissolved: Vec<Dissolved>,
+    /// What the model says about the states of its C and I elements: a declared unit
+    /// (`C spring = k, q in "m";`) and the element's doc comment.
+    pub storage: Vec<StorageNote>,
+}
+
+/// The unit and documentation of a storage element's state.
+pub struct StorageNote {
+    /// The C or I element.
+    pub element: ElementId,
+    /// Its state's unit, if declared.
+    pub unit: Option<syn::LitStr>,
+    /// The element's doc comment, if it has one.
+    pub doc: Option<String>,
 }
 
 /// A junction or splitter replaced by one scalar element per component (named
@@ -62,6 +75,10 @@ pub struct Kinematic {
     pub init: Expr,
     /// Its time derivative.
     pub der: Expr,
+    /// Its unit as declared (`in "m"`).
+    pub unit: Option<syn::LitStr>,
+    /// Its doc comment, if any.
+    pub doc: Option<String>,
 }
 
 /// A parameter: an `f64` field of the generated parameter struct.
@@ -179,9 +196,16 @@ pub struct Output {
     pub shape: Option<Shape>,
     /// The expression.
     pub expr: Expr,
+    /// Its unit as declared (`in "m"`).
+    pub unit: Option<syn::LitStr>,
 }
 
 impl Graph {
+    /// The declared unit and documentation of a C or I element's state.
+    pub fn storage_note(&self, id: ElementId) -> Option<&StorageNote> {
+        self.storage.iter().find(|note| note.element == id)
+    }
+
     /// What `id` was taken apart into, if it was.
     pub fn dissolved(&self, id: ElementId) -> Option<&Dissolved> {
         self.dissolved.iter().find(|d| d.element == id)

@@ -23,6 +23,7 @@ mod signals;
 mod split;
 mod stdlib;
 mod syntax;
+mod units;
 
 /// Compiles a textual bond graph into a simulation model.
 ///
@@ -42,21 +43,22 @@ mod syntax;
 ///         param force = 1.0 in "N";
 ///
 ///         Se push = force;
-///         I  mass = m;          // f = p / m
-///         C  spring = k;        // e = k q
-///         R  damper = c;        // e = c f
-///         1  v;                 // the common velocity
+///         I  mass = m, p in "kg·m/s";   // f = p / m; its state's unit
+///         C  spring = k, q in "m";      // e = k q
+///         R  damper = c;                // e = c f
+///         1  v;                         // the common velocity
 ///
 ///         push -> v -> { mass, spring, damper };
 ///
 ///         init spring.q = 0.01;
-///         output x = spring.q;
-///         output speed = v.f;
+///         output x = spring.q;          // a plain state lends its unit: m
+///         output speed = v.f in "m/s";
 ///     }
 /// }
 ///
 /// let model = Oscillator::default();
 /// assert_eq!(Oscillator::STATE_NAMES, ["mass.p", "spring.q"]);
+/// assert_eq!((Oscillator::STATES[0].unit, Oscillator::OUTPUTS[0].unit), ("kg·m/s", "m"));
 /// assert_eq!((Oscillator::PARAMETERS[1].name, Oscillator::PARAMETERS[1].unit), ("k", "N/m"));
 /// let mut x = [0.0; 2];
 /// model.initial_state(&mut x);
@@ -74,12 +76,13 @@ mod syntax;
 /// param_decl:= name (":" type)? ("=" default)?
 /// statement := doc* "param" name (":" type)? "=" expr ("in" "\"unit\"")? ";"
 ///                                                          parameter, default, unit
-///            | doc* KIND ("[" n "]")? name law? ";"          element (n: bond dimension)
+///            | doc* KIND ("[" n "]")? name law? state_unit? ";"
+///                                                          element (n: bond dimension)
 ///            | endpoint (arrow endpoint)+ ";"                bonds
 ///            | "init" element "." ("q" | "p") "=" expr ";"   initial state (default 0)
-///            | "state" name ":" type "=" expr ";"            kinematic state, initial value
+///            | doc* "state" name ":" type "=" expr unit? ";"  kinematic state, initial value
 ///            | "der" name "=" expr ";"                       its time derivative
-///            | doc* "output" name (":" type)? "=" expr ";"   named output
+///            | doc* "output" name (":" type)? "=" expr unit? ";"  named output
 ///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
 /// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1" | "Split"
 /// type      := "f64" | "Vector3" | "Matrix3" | "[f64; N]" | "[[f64; C]; R]"
@@ -87,6 +90,8 @@ mod syntax;
 ///                                                          (inverse: TF/GY only)
 ///            | "{" form ("," form)* ","? "}"              explicit law
 /// form      := ("e" | "f") "=" expr
+/// state_unit:= "," ("q" | "p") unit                       C: `, q in "m"`; I: `, p in "kg·m/s"`
+/// unit      := "in" "\"unit\""                             e.g. "N·m", "kg*m^2/s", "m/s²", "1"
 /// endpoint  := path | "{" path ("," path)* ","? "}"        a group fans out or in
 /// path      := name ("." name)* ("." n)?                   `crank.v`: a port of an instance;
 ///                                                          `s.0`: component 0 of splitter `s`
@@ -144,6 +149,26 @@ mod syntax;
 /// - `Coupling(a, b, k, c)`: a spring-damper between ports `a` and `b`; its force acts
 ///   on `b`, its opposite on `a`; `spring.q` is `∫ (a − b)`.
 /// - `FrameCoupling(a, b, frame, k, c)`: the same with the laws in a moving frame.
+///
+/// ## Units
+///
+/// A parameter, input, output or kinematic state takes its unit after its value, `in
+/// "N·m"`; a C or I element gives its state's after its law, `C spring = k, q in "m";`
+/// (the element's doc comment documents the state). An output that is a plain state or
+/// parameter (`output x = spring.q;`) takes that one's unit; nothing else is inferred,
+/// and what the model does not say stays unit-less. Units and docs reach
+/// `Model::STATES` and `Model::OUTPUTS` (one entry per number: every component of a
+/// vector has the unit), the FMU's `modelDescription.xml` and the `models` program.
+///
+/// Unit strings are SI with prefixes: base and derived units, `rad`, `deg`, `rpm`,
+/// `min`, `h`, `L`, `bar`; products with `·` or `*`, quotients with `/`, powers `m²`
+/// or `m^2`, `1` for dimensionless (the grammar is in the `bgdsl-units` crate). The
+/// compiler **warns**, at the unit's text, about a unit it cannot read and about an
+/// output whose unit disagrees with the declared units its expression reads
+/// (`output x = mass.p in "m"` where `mass.p` is in kg·m/s; `output F = k * spring.q
+/// in "W"`; `spring.q + mass.p`; a plain state in "m" declared "mm", which nothing
+/// converts). The warning is a `#[deprecated]` note (so `#![deny(warnings)]` makes it
+/// an error); the checks change none of the generated evaluation code.
 ///
 /// ## Elements and their laws
 ///

@@ -35,6 +35,7 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
             kinematics: Vec::new(),
             bond_dims: Vec::new(),
             dissolved: Vec::new(),
+            storage: Vec::new(),
         },
         components: Vec::new(),
     };
@@ -163,6 +164,44 @@ impl Resolver {
             self.errors
                 .at(decl.name.span(), "only a TF or GY takes an `inverse = ...`");
         }
+        let doc = crate::codegen::doc_text(&decl.attrs);
+        let unit = match (decl.kind, decl.state_unit) {
+            (_, None) => None,
+            (ElementKind::C, Some((var, unit))) if var == "q" => Some(unit),
+            (ElementKind::I, Some((var, unit))) if var == "p" => Some(unit),
+            (kind @ (ElementKind::C | ElementKind::I), Some((var, _))) => {
+                let state = if kind == ElementKind::C { "q" } else { "p" };
+                self.errors.at(
+                    var.span(),
+                    format!(
+                        "the state of {} `{}` is `{state}`, not `{var}`: write `, {state} in \"unit\"`",
+                        kind.word(),
+                        crate::flatten::display(&decl.name.to_string()),
+                    ),
+                );
+                None
+            }
+            (kind, Some((var, _))) => {
+                self.errors.at(
+                    var.span(),
+                    format!(
+                        "{} `{}` has no state to give a unit: only C (`, q in \"m\"`) and I \
+                         (`, p in \"kg·m/s\"`) elements have one",
+                        kind.word(),
+                        crate::flatten::display(&decl.name.to_string()),
+                    ),
+                );
+                None
+            }
+        };
+        if unit.is_some() || (doc.is_some() && matches!(decl.kind, ElementKind::C | ElementKind::I))
+        {
+            self.graph.storage.push(crate::ir::StorageNote {
+                element: id,
+                unit,
+                doc,
+            });
+        }
         self.graph.elements.push(Element {
             name: decl.name,
             kind: decl.kind,
@@ -203,6 +242,8 @@ impl Resolver {
                 shape: state.shape,
                 init: state.init,
                 der: der.expr,
+                unit: state.unit,
+                doc: crate::codegen::doc_text(&state.attrs),
             });
         }
         for der in ders.into_iter().flatten() {
@@ -314,6 +355,7 @@ impl Resolver {
             name: output.name,
             shape: output.shape,
             expr: output.expr,
+            unit: output.unit,
         });
     }
 

@@ -13,17 +13,22 @@ pub const TEXT: &str = r#"
     /// in the body frame. Ports: `v` (the centre of mass's velocity) and `w` (the
     /// angular velocity), both 1-junctions; states `R`, `r`, `translation.p` (momentum)
     /// and `rotation.p` (angular momentum). (Elements here are never named `e`, `f`,
-    /// `q` or `p`: those are the laws' own variables.)
+    /// `q` or `p`: those are the laws' own variables.) Units are SI: the states are in
+    /// 1 (a rotation matrix), m, kg·m/s and kg·m²/s.
     submodel RigidBody(m, J, R0, r0, g) {
-        state R: Matrix3 = R0;
+        /// orientation: body frame to frame 0
+        state R: Matrix3 = R0 in "1";
         der R = ::bgdsl_runtime::multibond::skew(w.f) * R;
-        state r: Vector3 = r0;
+        /// centre-of-mass position in frame 0
+        state r: Vector3 = r0 in "m";
         der r = v.f;
-        I[3] translation = m;
+        /// momentum in frame 0
+        I[3] translation = m, p in "kg·m/s";
+        /// angular momentum about the centre of mass in frame 0
         I[3] rotation {
             f = R * ::bgdsl_runtime::multibond::vec3(1.0 / J.x, 1.0 / J.y, 1.0 / J.z)
                 .component_mul(&(R.transpose() * p))
-        };
+        }, p in "kg·m²/s";
         Se[3] weight = ::bgdsl_runtime::multibond::vec3(0.0, -m * g, 0.0);
         1 v;
         1 w;
@@ -64,10 +69,12 @@ pub const TEXT: &str = r#"
     /// A spring-damper joint between two ports `a` and `b` (point velocities, or
     /// angular velocities for a rotational joint). `spring.q` is the integral of
     /// a − b in frame 0; k and c are numbers or 3×3 matrices. The joint's force
-    /// `spring.e + damper.e` acts on b, its opposite on a.
+    /// `spring.e + damper.e` acts on b, its opposite on a. (No unit on `spring.q`:
+    /// it is in m between points, in rad between angular velocities.)
     submodel Coupling(a, b, k, c) {
         0 rel;
         1 d;
+        /// deflection: the integral of a − b in frame 0
         C[3] spring = k;
         R[3] damper = c;
         a -> rel -> b;
@@ -82,6 +89,7 @@ pub const TEXT: &str = r#"
         0 rel;
         MTF to_frame = frame.transpose(), inverse = frame;
         1 d;
+        /// deflection: the integral of a − b in the moving frame
         C[3] spring = k;
         R[3] damper = c;
         a -> rel -> b;

@@ -160,12 +160,16 @@ pub enum Stmt {
 
 /// A kinematic state: integrated, but not the storage of a bond-graph element.
 pub struct StateDecl {
+    /// Doc comments: the state's documentation.
+    pub attrs: Vec<Attribute>,
     /// The state's name.
     pub name: Ident,
     /// Its shape.
     pub shape: Shape,
     /// The initial value, an expression in parameters.
     pub init: Expr,
+    /// Its unit, written `in "m"` after the initial value.
+    pub unit: Option<syn::LitStr>,
 }
 
 /// The time derivative of a kinematic state.
@@ -267,9 +271,11 @@ impl ElementKind {
     }
 }
 
-/// `KIND name [= expr | { var = expr, ... }];` (doc comments on an element document
-/// the model's text only.)
+/// `KIND name [= expr | { var = expr, ... }] [, q in "unit"];` (doc comments on a C or
+/// I element document its state.)
 pub struct ElementDecl {
+    /// Doc comments and other attributes.
+    pub attrs: Vec<Attribute>,
     /// The kind.
     pub kind: ElementKind,
     /// The dimension declared with `[n]`, and where.
@@ -281,6 +287,8 @@ pub struct ElementDecl {
     /// A two-port's `inverse = expr`: the inverse of its modulus, for the causality
     /// that needs it.
     pub inverse: Option<Expr>,
+    /// `, q in "m"` after the law: the unit of a storage element's state.
+    pub state_unit: Option<(Ident, syn::LitStr)>,
 }
 
 /// A constitutive law as written.
@@ -377,6 +385,8 @@ pub struct OutputDecl {
     pub shape: Option<Shape>,
     /// The expression, in signals, parameters and `t`.
     pub expr: Expr,
+    /// Its unit, written `in "m"` after the expression.
+    pub unit: Option<syn::LitStr>,
 }
 
 impl Parse for File {
@@ -522,12 +532,7 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         let shape = optional_shape(input)?.unwrap_or(Shape::Scalar);
         input.parse::<Token![=]>()?;
         let default = input.parse()?;
-        let unit = if input.peek(Token![in]) {
-            input.parse::<Token![in]>()?;
-            Some(input.parse()?)
-        } else {
-            None
-        };
+        let unit = optional_unit(input)?;
         Stmt::Param(ParamDecl {
             attrs,
             name,
@@ -537,14 +542,20 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
             input: is_input,
         })
     } else if lookahead.peek(kw::state) {
-        no_attrs(&attrs, "a `state` statement")?;
         input.parse::<kw::state>()?;
         let name = input.parse()?;
         input.parse::<Token![:]>()?;
         let shape = parse_shape(input)?;
         input.parse::<Token![=]>()?;
         let init = input.parse()?;
-        Stmt::State(StateDecl { name, shape, init })
+        let unit = optional_unit(input)?;
+        Stmt::State(StateDecl {
+            attrs,
+            name,
+            shape,
+            init,
+            unit,
+        })
     } else if lookahead.peek(kw::der) {
         no_attrs(&attrs, "a `der` statement")?;
         input.parse::<kw::der>()?;
@@ -571,17 +582,19 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         let shape = optional_shape(input)?;
         input.parse::<Token![=]>()?;
         let expr = input.parse()?;
+        let unit = optional_unit(input)?;
         Stmt::Output(OutputDecl {
             attrs,
             name,
             shape,
             expr,
+            unit,
         })
     } else if lookahead.peek(LitInt) {
         Stmt::Element(parse_junction(input, recovered)?)
     } else if lookahead.peek(Ident) {
         if input.peek2(Ident) || input.peek2(syn::token::Bracket) {
-            Stmt::Element(parse_element(input)?)
+            Stmt::Element(parse_element(input, attrs)?)
         } else {
             no_attrs(&attrs, "a bond statement")?;
             Stmt::Bonds(input.parse()?)
@@ -594,6 +607,16 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
     };
     input.parse::<Token![;]>()?;
     Ok(stmt)
+}
+
+/// `in "unit"` after a value, if written.
+fn optional_unit(input: ParseStream) -> syn::Result<Option<syn::LitStr>> {
+    if input.peek(Token![in]) {
+        input.parse::<Token![in]>()?;
+        Ok(Some(input.parse()?))
+    } else {
+        Ok(None)
+    }
 }
 
 fn no_attrs(attrs: &[Attribute], what: &str) -> syn::Result<()> {
@@ -643,15 +666,17 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
         });
     }
     Ok(ElementDecl {
+        attrs: Vec::new(),
         kind,
         dimension,
         name,
         law: LawSyntax::None,
         inverse: None,
+        state_unit: None,
     })
 }
 
-fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
+fn parse_element(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<ElementDecl> {
     let word: Ident = input.parse()?;
     let Some(kind) = ElementKind::from_word(&word.to_string()) else {
         return Err(syn::Error::new(
@@ -702,12 +727,28 @@ fn parse_element(input: ParseStream) -> syn::Result<ElementDecl> {
     } else {
         LawSyntax::None
     };
+    let state_unit = if input.peek(Token![,]) && !matches!(law, LawSyntax::None) {
+        input.parse::<Token![,]>()?;
+        let var: Ident = input.parse()?;
+        if !input.peek(Token![in]) {
+            return Err(input.error(format!(
+                "expected `in \"unit\"`: a storage element's state takes a unit, \
+                 `{word} {name} = ..., {var} in \"m\";`"
+            )));
+        }
+        input.parse::<Token![in]>()?;
+        Some((var, input.parse()?))
+    } else {
+        None
+    };
     Ok(ElementDecl {
+        attrs,
         kind,
         dimension,
         name,
         law,
         inverse,
+        state_unit,
     })
 }
 
@@ -819,6 +860,40 @@ mod should {
         };
         assert_eq!(chain.links.len(), 2);
         assert_eq!(chain.links[1].1.ports().len(), 2);
+    }
+
+    #[test]
+    fn read_units_of_outputs_states_and_storage() {
+        let file = parse(
+            r#"model M {
+                 C spring = k, q in "m";
+                 I[3] body { f = p / m }, p in "kg·m/s";
+                 state r: Vector3 = r0 in "m";
+                 output x = spring.q in "m";
+                 output F: Vector3 = body.e in "N";
+             }"#,
+        )
+        .unwrap();
+        let model = &file.models[0];
+        assert!(model.errors.is_empty());
+        let units: Vec<String> = model
+            .stmts
+            .iter()
+            .map(|stmt| match stmt {
+                Stmt::Element(e) => e.state_unit.as_ref().unwrap().1.value(),
+                Stmt::State(s) => s.unit.as_ref().unwrap().value(),
+                Stmt::Output(o) => o.unit.as_ref().unwrap().value(),
+                _ => panic!("unexpected statement"),
+            })
+            .collect();
+        assert_eq!(units, ["m", "kg·m/s", "m", "m", "N"]);
+    }
+
+    #[test]
+    fn reject_a_state_unit_without_in() {
+        let file = parse(r#"model M { C spring = k, q "m"; }"#).unwrap();
+        let message = file.models[0].errors[0].to_string();
+        assert!(message.contains("expected `in \"unit\"`"), "{message}");
     }
 
     #[test]

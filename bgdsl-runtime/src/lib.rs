@@ -47,6 +47,8 @@ pub mod solver;
 pub mod stepper;
 
 pub use bgdsl_macros::bond_graph;
+/// Unit strings parsed into SI base-unit exponents and a factor (the `bgdsl-units` crate).
+pub use bgdsl_units as units;
 #[cfg(feature = "std")]
 pub use dot::Dot;
 pub use dual::{Dual, DualN};
@@ -56,7 +58,7 @@ pub use error::{NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 #[cfg(feature = "std")]
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
-pub use model::{InputInfo, Model, ParameterInfo, PowerBalance, WithInputs};
+pub use model::{unit_of, InputInfo, Model, ParameterInfo, PowerBalance, SignalInfo, WithInputs};
 #[cfg(feature = "std")]
 pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;

@@ -28,6 +28,14 @@ pub trait Model {
     const N_STATES: usize = Self::STATE_NAMES.len();
     /// Length of the output vector.
     const N_OUTPUTS: usize = Self::OUTPUT_NAMES.len();
+    /// The states in the order of the state vector (one entry per number, named as in
+    /// [`Model::STATE_NAMES`]), with their units and documentation; empty for a model
+    /// that does not describe them.
+    const STATES: &'static [SignalInfo] = &[];
+    /// The outputs in the order of the output vector (one entry per number, named as in
+    /// [`Model::OUTPUT_NAMES`]), with their units and documentation; empty for a model
+    /// that does not describe them.
+    const OUTPUTS: &'static [SignalInfo] = &[];
     /// The parameters in declaration order, with their units and documentation (empty
     /// for a model that does not describe them).
     const PARAMETERS: &'static [ParameterInfo] = &[];
@@ -113,6 +121,27 @@ pub struct ParameterInfo {
     pub doc: &'static str,
     /// How many numbers it holds: 1 for a scalar, 3 for `[f64; 3]`, 9 for a 3×3 matrix.
     pub len: usize,
+}
+
+/// What a model says about one number of its state or output vector (see
+/// [`Model::STATES`] and [`Model::OUTPUTS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SignalInfo {
+    /// The name, as in [`Model::STATE_NAMES`] or [`Model::OUTPUT_NAMES`]: `spring.q`,
+    /// `F_x`.
+    pub name: &'static str,
+    /// The unit as declared (`output x = spring.q in "m";`, `C spring = k, q in "m";`),
+    /// empty when the model does not say; never a guess.
+    pub unit: &'static str,
+    /// Its documentation (the doc comment of the output, of the `state`, or of the
+    /// element whose state it is), empty when there is none.
+    pub doc: &'static str,
+}
+
+/// The unit of entry `index` of `infos`, empty when the model does not describe it: the
+/// lookup every consumer of [`Model::STATES`] and [`Model::OUTPUTS`] does.
+pub fn unit_of(infos: &[SignalInfo], index: usize) -> &'static str {
+    infos.get(index).map_or("", |info| info.unit)
 }
 
 /// What a model says about one of its inputs (see [`WithInputs::INPUTS`]).

@@ -26,7 +26,9 @@
 //! - the results: `quick_return.csv` (the spec's file, always its 56 columns) for the
 //!   quick return, `<name>.csv` (`t`, then the recorded states and outputs, all of them
 //!   by default) for the other models, and `quick_return_extra.csv` when a quick return
-//!   run records extra columns;
+//!   run records extra columns; beside each, `<stem>.units.csv`: one row per column of
+//!   the results file (`column,unit,description`), the units and docs the model
+//!   declares (the results file's header row stays plain names);
 //! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
 //!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
 //!   output against time);
@@ -110,7 +112,7 @@ pub use physics::Catalogued;
 pub use run::{
     create_dir as create_output_dir, Observer, Outcome, Plots, RunError, RunPlan, Silent,
 };
-pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
+pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;
 use crate::quick_return::QuickReturn;
@@ -168,6 +170,12 @@ pub trait CatalogModel: Sync {
     fn state_names(&self) -> &'static [&'static str];
     /// The output names, in the order of the output vector.
     fn output_names(&self) -> &'static [&'static str];
+    /// The states with their units and docs (`Model::STATES`), in the order of the
+    /// state vector.
+    fn states(&self) -> &'static [bgdsl_runtime::SignalInfo];
+    /// The outputs with their units and docs (`Model::OUTPUTS`), in the order of the
+    /// output vector.
+    fn outputs(&self) -> &'static [bgdsl_runtime::SignalInfo];
     /// What is wrong with `params` (which must hold every parameter, each of the right
     /// shape, as [`set_parameter`] keeps them): non-finite numbers and the model's
     /// physical checks. Empty when the model can run with them.

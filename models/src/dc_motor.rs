@@ -95,18 +95,18 @@ bond_graph! {
         Se supply = voltage;
         1  armature;                               // the armature current
         R  winding = resistance;                   // u = R_a i
-        I  coil = inductance;                      // i = λ / L_a
+        I  coil = inductance, p in "Wb";           // i = λ / L_a
         GY motor = torque_constant;                // u = k_t ω_m, τ = k_t i
         1  shaft;                                  // the motor speed
-        I  rotor = rotor_inertia;
+        I  rotor = rotor_inertia, p in "N·m·s";
         R  bearing = rotor_friction;
         TF gear = 1.0 / gear_ratio;                // ω_out = ω_m / N
         0  coupling;                               // the torque in the output shaft
         1  twist;                                  // the shaft's twist rate
-        C  shaft_spring = shaft_stiffness;
+        C  shaft_spring = shaft_stiffness, q in "rad";
         R  shaft_damper = shaft_damping;
         1  load_side;                              // the load speed
-        I  load = load_inertia;
+        I  load = load_inertia, p in "N·m·s";
         R  drag = load_friction;
         Se brake = -load_torque;
 
@@ -117,30 +117,30 @@ bond_graph! {
         brake -> load_side;
 
         /// Armature current, A.
-        output current = armature.f;
+        output current = armature.f in "A";
         /// Motor speed ω_m, rad/s.
-        output motor_speed = shaft.f;
+        output motor_speed = shaft.f in "rad/s";
         /// Load speed ω_l, rad/s.
-        output load_speed = load_side.f;
+        output load_speed = load_side.f in "rad/s";
         /// Electromagnetic torque k_t i, N·m.
-        output motor_torque = motor.e2;
+        output motor_torque = motor.e2 in "N·m";
         /// Back-EMF k_t ω_m, V.
-        output back_emf = motor.e1;
+        output back_emf = motor.e1 in "V";
         /// Torque in the output shaft, N·m.
-        output shaft_torque = coupling.e;
+        output shaft_torque = coupling.e in "N·m";
         /// Electrical power drawn from the supply, W.
-        output electrical_power = supply.e * supply.f;
+        output electrical_power = supply.e * supply.f in "W";
         /// Mechanical power delivered to the load torque, W.
-        output load_power = -(brake.e * brake.f);
+        output load_power = -(brake.e * brake.f) in "W";
         /// Power dissipated in the winding, the bearing, the shaft and the load friction, W.
         output dissipated_power = winding.e * winding.f
             + bearing.e * bearing.f
             + shaft_damper.e * shaft_damper.f
-            + drag.e * drag.f;
+            + drag.e * drag.f in "W";
         /// Stored energy, J: magnetic, kinetic (rotor and load) and elastic (shaft).
         output energy = 0.5 * coil.p * coil.p / inductance
             + 0.5 * rotor.p * rotor.p / rotor_inertia
             + 0.5 * shaft_stiffness * shaft_spring.q * shaft_spring.q
-            + 0.5 * load.p * load.p / load_inertia;
+            + 0.5 * load.p * load.p / load_inertia in "J";
     }
 }

@@ -43,18 +43,18 @@ bond_graph! {
         MSe supply = voltage;
         1  armature;
         R  winding = resistance;
-        I  coil = inductance;
+        I  coil = inductance, p in "Wb";
         GY motor = torque_constant;
         1  shaft;
-        I  rotor = rotor_inertia;
+        I  rotor = rotor_inertia, p in "N·m·s";
         R  bearing = rotor_friction;
         TF gear = 1.0 / gear_ratio;
         0  coupling;
         1  twist;
-        C  shaft_spring = shaft_stiffness;
+        C  shaft_spring = shaft_stiffness, q in "rad";
         R  shaft_damper = shaft_damping;
         1  load_side;
-        I  load = load_inertia;
+        I  load = load_inertia, p in "N·m·s";
         R  drag = load_friction;
         MSe brake = -load_torque;
 
@@ -65,11 +65,11 @@ bond_graph! {
         brake -> load_side;
 
         /// Load speed ω_l, rad/s.
-        output load_speed = load_side.f;
+        output load_speed = load_side.f in "rad/s";
         /// Armature current, A.
-        output current = armature.f;
+        output current = armature.f in "A";
         /// Torque in the output shaft, N·m.
-        output shaft_torque = coupling.e;
+        output shaft_torque = coupling.e in "N·m";
     }
 }
 

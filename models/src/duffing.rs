@@ -55,8 +55,8 @@ bond_graph! {
         param x0 = 1.0 in "m";
 
         Se drive = force * (omega * t).cos();
-        I  mass = m;
-        C  spring { e = k * q + k3 * q.powi(3) };
+        I  mass = m, p in "kg·m/s";
+        C  spring { e = k * q + k3 * q.powi(3) }, q in "m";
         R  damper = c;
         1  v;
 
@@ -64,14 +64,14 @@ bond_graph! {
 
         init spring.q = x0;
         /// Displacement, m.
-        output x = spring.q;
+        output x = spring.q in "m";
         /// Velocity, m/s.
-        output velocity = v.f;
+        output velocity = v.f in "m/s";
         /// Spring force, N.
-        output spring_force = spring.e;
+        output spring_force = spring.e in "N";
         /// Stored energy, J: kinetic plus the spring's potential `k q²/2 + k3 q⁴/4`.
         output energy = 0.5 * mass.p * mass.p / m
             + 0.5 * k * spring.q * spring.q
-            + 0.25 * k3 * spring.q.powi(4);
+            + 0.25 * k3 * spring.q.powi(4) in "J";
     }
 }

@@ -45,25 +45,25 @@ bond_graph! {
         param force = 1.0 in "N";
 
         Se push = force;
-        I  mass = m;          // f = p / m
-        C  spring = k;        // e = k q
-        R  damper = c;        // e = c f
-        1  v;                 // the common velocity
+        I  mass = m, p in "kg·m/s";   // f = p / m
+        C  spring = k, q in "m";      // e = k q
+        R  damper = c;                // e = c f
+        1  v;                         // the common velocity
 
         push -> v -> { mass, spring, damper };
 
         init spring.q = 0.01;
         /// Position of the mass (spring extension), m.
-        output x = spring.q;
+        output x = spring.q in "m";
         /// Velocity of the mass, m/s.
-        output speed = v.f;
+        output speed = v.f in "m/s";
         /// Force of the spring on the mass, N (positive: pulls back towards x = 0).
-        output spring_force = spring.e;
+        output spring_force = spring.e in "N";
         /// Power dissipated in the damper, W.
-        output damper_power = damper.e * damper.f;
+        output damper_power = damper.e * damper.f in "W";
         /// Power delivered by the applied force, W.
-        output input_power = push.e * push.f;
+        output input_power = push.e * push.f in "W";
         /// Stored energy, J: kinetic `p²/2m` plus elastic `k x²/2`.
-        output energy = 0.5 * mass.p * mass.p / m + 0.5 * k * spring.q * spring.q;
+        output energy = 0.5 * mass.p * mass.p / m + 0.5 * k * spring.q * spring.q in "J";
     }
 }

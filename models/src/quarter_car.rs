@@ -98,16 +98,16 @@ bond_graph! {
             bump + wave_amplitude * w * (w * t).cos()
         };
         0  contact;                          // the tyre force
-        C  tyre = tyre_stiffness;
+        C  tyre = tyre_stiffness, q in "m";
         1  wheel;                            // the wheel velocity
-        I  unsprung = unsprung_mass;
+        I  unsprung = unsprung_mass, p in "kg·m/s";
         Se wheel_weight = -unsprung_mass * g;
         0  strut;                            // the suspension force
         1  deflection;                       // the suspension compression rate
-        C  spring = suspension_stiffness;
+        C  spring = suspension_stiffness, q in "m";
         R  damper = suspension_damping;
         1  body;                             // the body velocity
-        I  sprung = sprung_mass;
+        I  sprung = sprung_mass, p in "kg·m/s";
         Se body_weight = -sprung_mass * g;
 
         road -> contact -> { tyre, wheel };
@@ -130,7 +130,7 @@ bond_graph! {
             };
             let profile = bump + wave_amplitude * (6.283185307179586 * speed / wavelength * t).sin();
             profile
-        };
+        } in "m";
         /// Height of the wheel centre above its static position, m.
         output wheel_height = {
             let bump = if t > bump_distance / speed && t < (bump_distance + bump_length) / speed {
@@ -141,7 +141,7 @@ bond_graph! {
             };
             let profile = bump + wave_amplitude * (6.283185307179586 * speed / wavelength * t).sin();
             profile - (tyre.q - (sprung_mass + unsprung_mass) * g / tyre_stiffness)
-        };
+        } in "m";
         /// Height of the body above its static position, m.
         output body_height = {
             let bump = if t > bump_distance / speed && t < (bump_distance + bump_length) / speed {
@@ -153,19 +153,19 @@ bond_graph! {
             let profile = bump + wave_amplitude * (6.283185307179586 * speed / wavelength * t).sin();
             let wheel_z = profile - (tyre.q - (sprung_mass + unsprung_mass) * g / tyre_stiffness);
             wheel_z - (spring.q - sprung_mass * g / suspension_stiffness)
-        };
+        } in "m";
         /// Vertical velocity of the body, m/s.
-        output body_velocity = body.f;
+        output body_velocity = body.f in "m/s";
         /// Vertical velocity of the wheel, m/s.
-        output wheel_velocity = wheel.f;
+        output wheel_velocity = wheel.f in "m/s";
         /// Vertical acceleration of the body (ride comfort), m/s².
-        output body_acceleration = sprung.e / sprung_mass;
+        output body_acceleration = sprung.e / sprung_mass in "m/s²";
         /// Suspension compression from its static value (positive: bump), m.
-        output suspension_travel = spring.q - sprung_mass * g / suspension_stiffness;
+        output suspension_travel = spring.q - sprung_mass * g / suspension_stiffness in "m";
         /// Tyre contact force, N (its static value is the corner's weight; below zero the
         /// wheel would lift off, which this linear tyre does not model).
-        output tyre_force = tyre.e;
+        output tyre_force = tyre.e in "N";
         /// Power dissipated in the damper, W.
-        output damper_power = damper.e * damper.f;
+        output damper_power = damper.e * damper.f in "W";
     }
 }

@@ -48,26 +48,26 @@ bond_graph! {
 
         Se source = voltage;
         R  resistor = resistance;               // v = R i
-        I  inductor = inductance;               // i = λ / L
-        C  capacitor = 1.0 / capacitance;       // v = q / Cap
+        I  inductor = inductance, p in "Wb";    // i = λ / L
+        C  capacitor = 1.0 / capacitance, q in "C"; // v = q / Cap
         1  mesh;                                // the loop current
 
         source -> mesh -> { resistor, inductor, capacitor };
 
         /// Loop current, A.
-        output current = mesh.f;
+        output current = mesh.f in "A";
         /// Voltage across the capacitor, V.
-        output capacitor_voltage = capacitor.e;
+        output capacitor_voltage = capacitor.e in "V";
         /// Voltage across the inductor, V.
-        output inductor_voltage = inductor.e;
+        output inductor_voltage = inductor.e in "V";
         /// Voltage across the resistor, V.
-        output resistor_voltage = resistor.e;
+        output resistor_voltage = resistor.e in "V";
         /// Power delivered by the source, W.
-        output source_power = source.e * source.f;
+        output source_power = source.e * source.f in "W";
         /// Power dissipated in the resistor, W.
-        output resistor_power = resistor.e * resistor.f;
+        output resistor_power = resistor.e * resistor.f in "W";
         /// Stored energy, J: magnetic `λ²/2L` plus electric `q²/2Cap`.
         output energy = 0.5 * inductor.p * inductor.p / inductance
-            + 0.5 * capacitor.q * capacitor.q / capacitance;
+            + 0.5 * capacitor.q * capacitor.q / capacitance in "J";
     }
 }

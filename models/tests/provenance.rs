@@ -59,7 +59,7 @@ fn a_model_run_records_its_overrides_parameters_state_and_solver() {
     let results = dir.join("results");
     assert_eq!(
         files(&results),
-        ["index.html", "quick_return.csv", "run.yaml"]
+        ["index.html", "quick_return.csv", "quick_return.units.csv", "run.yaml"]
     );
     let r = record(&results);
 
@@ -371,7 +371,7 @@ fn results_under(dir: &Path) -> Vec<PathBuf> {
     for folder in fs::read_dir(dir.join("out")).unwrap() {
         let folder = folder.unwrap().path();
         for name in files(&folder) {
-            if name.ends_with(".csv") {
+            if name.ends_with(".csv") && !name.ends_with(".units.csv") {
                 found.push(folder.strip_prefix(dir).unwrap().join(name));
             }
         }
@@ -448,12 +448,12 @@ fn out_is_obeyed_and_scenarios_are_named_after_their_file() {
     }
     assert_eq!(
         files(&dir.join("mine")),
-        ["index.html", "rlc.csv", "run.yaml"]
+        ["index.html", "rlc.csv", "rlc.units.csv", "run.yaml"]
     );
     assert_eq!(files(&dir.join("out")), ["soft", "soft-c=3"]);
     assert_eq!(
         files(&dir.join("out/soft-c=3")),
-        ["index.html", "oscillator.csv", "run.yaml"]
+        ["index.html", "oscillator.csv", "oscillator.units.csv", "run.yaml"]
     );
 }
 
@@ -465,7 +465,7 @@ fn the_default_run_still_writes_the_specs_folder() {
     assert_eq!(files(&dir.join("out")), ["quick_return"]);
     assert_eq!(
         files(&dir.join("out/quick_return")),
-        ["index.html", "quick_return.csv", "run.yaml"]
+        ["index.html", "quick_return.csv", "quick_return.units.csv", "run.yaml"]
     );
     assert!(
         out.stdout.contains("overrides      none\n"),

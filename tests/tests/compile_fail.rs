@@ -30,3 +30,14 @@ fn ui() {
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }
+
+/// Units: an unknown unit string, and an output whose declared unit disagrees with the
+/// units its expression reads, are warnings at the text (errors under
+/// `#![deny(warnings)]`, which pins their messages here); a state unit on the wrong
+/// variable is an error.
+#[test]
+fn units() {
+    let cases = trybuild::TestCases::new();
+    cases.compile_fail("ui/units/*.rs");
+    cases.pass("ui/units/pass/*.rs");
+}

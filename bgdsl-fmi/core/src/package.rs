@@ -316,7 +316,7 @@ fn documentation(d: &ModelDescription, identifier: &str) -> String {
             "<tr><td>{}</td><td>{}</td><td>{kind}</td><td>{}</td><td>{start}</td><td>{}</td></tr>",
             v.value_reference,
             escape(&v.name),
-            escape(v.unit),
+            escape(&v.unit),
             escape(&v.description)
         );
     }

@@ -13,6 +13,10 @@
 //! | parameters, flattened | `k`, `l1[1]`, `l1[2]`, `l1[3]` | `parameter` | `tunable` |
 //! | inputs | `torque` | `input` (with a start value) | `continuous` |
 //!
+//! Every variable carries the unit and description the model declares
+//! ([`Model::STATES`](bgdsl_runtime::Model::STATES), `OUTPUTS`, `PARAMETERS`, `INPUTS`);
+//! a state derivative's unit is its state's per second (`m/s` for `m`).
+//!
 //! A state's start value is the model's initial state at the default parameters. An
 //! importer may set it (`fmi2SetReal` in Instantiated or Initialization Mode, as
 //! `initial="exact"` allows); a state it does not set starts where the model's declared
@@ -66,8 +70,9 @@ pub struct Variable {
     pub value_reference: ValueReference,
     /// What it is.
     pub role: Role,
-    /// Its unit as declared, empty when none was.
-    pub unit: &'static str,
+    /// Its unit as declared, empty when none was (a state derivative's: its state's
+    /// unit per second, `m/s` for `m`).
+    pub unit: String,
     /// Its description (a parameter's or input's doc comment), possibly empty.
     pub description: String,
     /// Its start value: the default of a parameter or input, the initial state (at the
@@ -106,20 +111,46 @@ impl Variables {
                 start,
             })
         };
+        // Units and descriptions as the model declares them (`Model::STATES`,
+        // `Model::OUTPUTS`); a derivative's unit is its state's per second.
+        let described = |infos: &'static [bgdsl_runtime::SignalInfo], i: usize| {
+            infos.get(i).map_or(("", ""), |info| (info.unit, info.doc))
+        };
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
+            let (unit, doc) = described(M::STATES, i);
             push(
                 name.to_string(),
                 Role::State(i),
-                "",
-                "",
+                unit.to_string(),
+                doc,
                 Some(state_starts[i]),
             );
         }
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
-            push(format!("der({name})"), Role::Derivative(i), "", "", None);
+            let (unit, _) = described(M::STATES, i);
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!("{unit}/s")
+            };
+            let doc = format!("time derivative of {name}");
+            push(
+                format!("der({name})"),
+                Role::Derivative(i),
+                unit,
+                &doc,
+                None,
+            );
         }
         for (i, name) in M::OUTPUT_NAMES.iter().enumerate() {
-            push(name.to_string(), Role::Output(i), "", "", None);
+            let (unit, doc) = described(M::OUTPUTS, i);
+            push(
+                name.to_string(),
+                Role::Output(i),
+                unit.to_string(),
+                doc,
+                None,
+            );
         }
         let described: usize = M::PARAMETERS.iter().map(|info| info.len).sum();
         if described == sizes.parameters {
@@ -135,7 +166,7 @@ impl Variables {
                     push(
                         name,
                         Role::Parameter(flat),
-                        info.unit,
+                        info.unit.to_string(),
                         info.doc,
                         Some(start),
                     );
@@ -147,7 +178,7 @@ impl Variables {
             // number them.
             for (i, start) in parameter_starts.iter().enumerate() {
                 let name = format!("parameter[{}]", i + 1);
-                push(name, Role::Parameter(i), "", "", Some(*start));
+                push(name, Role::Parameter(i), String::new(), "", Some(*start));
             }
         }
         for (i, info) in M::INPUTS.iter().enumerate() {
@@ -155,7 +186,7 @@ impl Variables {
             push(
                 info.name.to_string(),
                 Role::Input(i),
-                info.unit,
+                info.unit.to_string(),
                 info.doc,
                 Some(start),
             );
@@ -328,7 +359,7 @@ mod should {
             name: name.to_string(),
             value_reference: 0,
             role: Role::Output(0),
-            unit: "",
+            unit: String::new(),
             description: String::new(),
             start: None,
         };

@@ -47,13 +47,13 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
         .variables
         .all()
         .iter()
-        .map(|v| v.unit)
+        .map(|v| v.unit.as_str())
         .filter(|u| !u.is_empty())
         .collect();
     if !units.is_empty() {
         x.push_str("  <UnitDefinitions>\n");
         for unit in units {
-            let _ = writeln!(x, "    <Unit name=\"{}\"/>", escape(unit));
+            unit_definition(&mut x, unit);
         }
         x.push_str("  </UnitDefinitions>\n");
     }
@@ -78,6 +78,32 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
     model_structure(&mut x, d);
     x.push_str("</fmiModelDescription>\n");
     x
+}
+
+/// One `<Unit>`, with its `<BaseUnit>` (the exponents of the SI base units, factor and
+/// offset, FMI 2.0 section 2.2.2) when the unit string parses; a unit it cannot read is
+/// declared by name alone.
+fn unit_definition(x: &mut String, unit: &str) {
+    let Ok(parsed) = bgdsl_runtime::units::parse(unit) else {
+        let _ = writeln!(x, "    <Unit name=\"{}\"/>", escape(unit));
+        return;
+    };
+    let _ = write!(x, "    <Unit name=\"{}\">\n      <BaseUnit", escape(unit));
+    for (name, exponent) in bgdsl_runtime::units::BASE_UNITS
+        .iter()
+        .zip(parsed.exponents)
+    {
+        if exponent != 0 {
+            let _ = write!(x, " {name}=\"{exponent}\"");
+        }
+    }
+    if parsed.factor != 1.0 {
+        let _ = write!(x, " factor=\"{}\"", xml_double(parsed.factor));
+    }
+    if parsed.offset != 0.0 {
+        let _ = write!(x, " offset=\"{}\"", xml_double(parsed.offset));
+    }
+    x.push_str("/>\n    </Unit>\n");
 }
 
 /// The capability flags both interfaces share.
@@ -121,7 +147,7 @@ fn scalar_variable(x: &mut String, d: &ModelDescription, v: &Variable) {
     }
     x.push_str(">\n      <Real");
     if !v.unit.is_empty() {
-        let _ = write!(x, " unit=\"{}\"", escape(v.unit));
+        let _ = write!(x, " unit=\"{}\"", escape(&v.unit));
     }
     if let Role::Derivative(i) = v.role {
         let state = d.variables.value_reference(Role::State(i));

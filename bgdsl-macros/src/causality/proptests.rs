@@ -86,6 +86,7 @@ fn build(recipe: &Recipe) -> Graph {
         kinematics: Vec::new(),
         bond_dims: Vec::new(),
         dissolved: Vec::new(),
+        storage: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());

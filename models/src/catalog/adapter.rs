@@ -45,6 +45,14 @@ where
         M::OUTPUT_NAMES
     }
 
+    fn states(&self) -> &'static [bgdsl_runtime::SignalInfo] {
+        M::STATES
+    }
+
+    fn outputs(&self) -> &'static [bgdsl_runtime::SignalInfo] {
+        M::OUTPUTS
+    }
+
     fn check(&self, params: &Mapping) -> Vec<Problem> {
         let mut checks = Checks::new(M::PARAMETERS);
         checks.finite(params);

@@ -1,5 +1,11 @@
-//! Choosing states and outputs by name, and recording the chosen ones into a table
-//! that is written as CSV.
+//! Choosing states and outputs by name, recording the chosen ones into a table that is
+//! written as CSV, and the units side file that describes a CSV's columns.
+//!
+//! A results file's header row holds plain names (scripts read it, and the quick
+//! return's 56-column header is fixed by its spec); the units and meanings of its
+//! columns go in `<stem>.units.csv` beside it: a header row `column,unit,description`,
+//! then one row per column of the results file, `t` first (`t,s,time`). A unit is empty
+//! where the model declares none.
 
 use std::io::{self, Write};
 use std::path::Path;
@@ -76,6 +82,65 @@ pub(super) fn all_columns(model: &dyn CatalogModel) -> Vec<(String, Column)> {
         .collect()
 }
 
+/// The unit and description of the column called `name` of a results file of `model`:
+/// `t` is time in s; a state or output has what the model declares (empty when it
+/// declares nothing).
+pub fn column_unit(model: &dyn CatalogModel, name: &str) -> (&'static str, &'static str) {
+    if name == "t" {
+        return ("s", "time");
+    }
+    let find = |infos: &'static [bgdsl_runtime::SignalInfo]| {
+        infos
+            .iter()
+            .find(|info| info.name == name)
+            .map(|info| (info.unit, info.doc))
+    };
+    find(model.outputs())
+        .or_else(|| find(model.states()))
+        .unwrap_or(("", ""))
+}
+
+/// The units side file of the results file at `results` (`x.csv` → `x.units.csv`,
+/// `x.partial.csv` → `x.partial.units.csv`).
+pub fn units_path(results: &Path) -> std::path::PathBuf {
+    let stem = results
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    results.with_file_name(format!("{stem}.units.csv"))
+}
+
+/// Writes the units side file (see the [module documentation](self)) of a results file
+/// with columns `names` (`t` included) of `model` beside `results`, whole or not at
+/// all, and returns its path.
+pub(super) fn write_units(
+    model: &dyn CatalogModel,
+    results: &Path,
+    names: &[&str],
+) -> Result<std::path::PathBuf, CsvError> {
+    let path = units_path(results);
+    write_atomically(&path, |out| {
+        out.write_all(b"column,unit,description\n")?;
+        for name in names {
+            let (unit, doc) = column_unit(model, name);
+            let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+            let fields = [*name, unit, doc.as_str()].map(csv_field);
+            writeln!(out, "{}", fields.join(","))?;
+        }
+        Ok(())
+    })?;
+    Ok(path)
+}
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}
+
 /// A recorder of chosen columns: `t`, then one column per choice.
 #[derive(Clone, Debug)]
 pub(super) struct Table {
@@ -110,6 +175,13 @@ impl Table {
     /// The sample times.
     pub(super) fn times(&self) -> &[f64] {
         &self.data[0]
+    }
+
+    /// Every column's name, `t` first, as the header row has them.
+    pub(super) fn names(&self) -> Vec<&str> {
+        std::iter::once("t")
+            .chain(self.names.iter().map(String::as_str))
+            .collect()
     }
 
     /// The chosen columns' names and values (not `t`).
@@ -162,6 +234,24 @@ impl Recorder for Table {
 mod tests {
     use super::*;
     use crate::catalog::find;
+
+    #[test]
+    fn give_every_column_its_declared_unit() {
+        let model = find("quick_return").unwrap().model;
+        assert_eq!(column_unit(model, "t"), ("s", "time"));
+        assert_eq!(column_unit(model, "Tc_z").0, "N·m");
+        assert_eq!(column_unit(model, "p5_x").0, "kg·m/s");
+        assert_eq!(column_unit(model, "crank.rotation.p_z").0, "kg·m²/s");
+        assert_eq!(
+            column_unit(model, "j01.spring.q_x").0,
+            "",
+            "a coupling's unit is not known"
+        );
+        assert_eq!(
+            units_path(Path::new("out/quick_return.partial.csv")),
+            Path::new("out/quick_return.partial.units.csv")
+        );
+    }
 
     #[test]
     fn resolves_names_and_vector_groups() {

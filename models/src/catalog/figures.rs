@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::columns::Table;
+use super::columns::{column_unit, Table};
 use super::params::format_number;
 use super::{Entry, Plots, RunError, SweepPlan};
 use crate::plot::{draw_line_chart, ImageFormat, LineChart, PlotError, Series};
@@ -82,6 +82,15 @@ fn file_stem(name: &str) -> String {
         .collect()
 }
 
+/// An axis label: `name (unit)`, or the bare name where the unit is not known.
+fn with_unit(name: &str, unit: &str) -> String {
+    if unit.is_empty() {
+        name.to_owned()
+    } else {
+        format!("{name} ({unit})")
+    }
+}
+
 /// One chart per recorded output (or per chosen output) against time.
 pub(super) fn trajectory(
     entry: &Entry,
@@ -107,7 +116,7 @@ pub(super) fn trajectory(
                 entry.name
             ),
             x_label: "time t (s)".to_owned(),
-            y_label: name.to_owned(),
+            y_label: with_unit(name, column_unit(entry.model, name).0),
             series: vec![Series::new(
                 name,
                 table
@@ -141,13 +150,6 @@ pub(super) fn sweep(
     let Some(first) = plan.axes.first() else {
         return Ok(Vec::new());
     };
-    let axis_label = |name: &str, unit: &str| {
-        if unit.is_empty() {
-            name.to_owned()
-        } else {
-            format!("{name} ({unit})")
-        }
-    };
     let mut drawn = Vec::new();
     for (m, metric) in plan.metrics.iter().enumerate() {
         stop_if_interrupted()?;
@@ -176,7 +178,7 @@ pub(super) fn sweep(
                 "Peak |{}| over {} to {} s of each run, against {}",
                 metric.name, plan.window[0], plan.window[1], first.name
             ),
-            x_label: axis_label(&first.name, &first.unit),
+            x_label: with_unit(&first.name, &first.unit),
             y_label: metric.label(),
             series,
         };

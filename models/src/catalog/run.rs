@@ -13,13 +13,13 @@ use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, 
 use serde::de::DeserializeOwned;
 use serde_yaml::{Mapping, Value};
 
-use super::columns::{all_columns, Table};
+use super::columns::{all_columns, write_units, Table};
 use super::figures;
 use super::folder::RunFolder;
 use super::params::format_significant;
 use super::{Catalogued, Column, Entry, ResultsKind};
 use crate::provenance::{self, Context};
-use crate::quick_return::results::{Results, FILE_NAME};
+use crate::quick_return::results::{Results, COLUMNS, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
 use crate::quick_return::QuickReturnParams;
@@ -342,8 +342,10 @@ where
     let mut failure = run.error.as_ref().map(|e| failure_text(&plan.solver, e));
 
     let dir = folder.path();
-    // The results files' names, written into the staging folder.
+    // The results files' names, written into the staging folder, and their units
+    // side files (see `columns::write_units`).
     let mut results_files = Vec::new();
+    let mut unit_files = Vec::new();
     let writing = Instant::now();
     let stem = if quick {
         FILE_NAME.trim_end_matches(".csv")
@@ -352,9 +354,9 @@ where
     };
     if let Some(results) = &results {
         let name = format!("{stem}.csv");
-        results
-            .write_csv(dir.join(&name))
-            .map_err(RunError::Results)?;
+        let path = dir.join(&name);
+        results.write_csv(&path).map_err(RunError::Results)?;
+        unit_files.push(write_units(entry.model, &path, &COLUMNS)?);
         results_files.push(name);
     }
     if let Some(table) = &table {
@@ -363,7 +365,9 @@ where
         } else {
             format!("{stem}.csv")
         };
-        table.write_csv(&dir.join(&name))?;
+        let path = dir.join(&name);
+        table.write_csv(&path)?;
+        unit_files.push(write_units(entry.model, &path, &table.names())?);
         results_files.push(name);
     }
     let write_time = writing.elapsed();
@@ -455,6 +459,7 @@ where
     let target = folder.commit(partial)?;
     let in_target = |path: &PathBuf| target.join(path.file_name().unwrap_or_default());
     let mut files = results_paths;
+    files.extend(unit_files.iter().map(in_target));
     files.extend(drawn.iter().flat_map(|f| f.files.iter().map(in_target)));
     files.push(target.join(provenance::FILE_NAME));
     files.push(target.join(INDEX_FILE));
@@ -526,7 +531,7 @@ fn trajectory_summary(
             .max(6);
         let _ = writeln!(
             s,
-            "  {:<width$}  {:>14} {:>14} {:>14}",
+            "  {:<width$}  {:>14} {:>14} {:>14}  unit",
             "column", "min", "max", "last"
         );
         for (name, values) in table.columns() {
@@ -537,7 +542,9 @@ fn trajectory_summary(
                 });
             let last = values.last().copied().unwrap_or(f64::NAN);
             let [lo, hi, last] = [lo, hi, last].map(format_significant);
-            let _ = writeln!(s, "  {name:<width$}  {lo:>14} {hi:>14} {last:>14}");
+            let unit = super::columns::column_unit(entry.model, name).0;
+            let line = format!("  {name:<width$}  {lo:>14} {hi:>14} {last:>14}  {unit}");
+            let _ = writeln!(s, "{}", line.trim_end());
         }
     }
     s

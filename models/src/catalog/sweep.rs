@@ -360,24 +360,15 @@ pub fn run_sweep(
     })
 }
 
-/// The unit of a quick return results column or group, e.g. `N·m` for `Tc`.
-pub fn quick_return_unit(name: &str) -> Option<&'static str> {
-    let group = name
-        .strip_suffix("_x")
-        .or_else(|| name.strip_suffix("_y"))
-        .or_else(|| name.strip_suffix("_z"))
-        .unwrap_or(name);
-    Some(match group {
-        "Tc" => "N·m",
-        "h1" => "kg·m²/s",
-        "p3" | "p5" => "kg·m/s",
-        "r_C3" | "r_C5" => "m",
-        "crank_angle" => "rad",
-        "E_stored" => "J",
-        "P_in" | "P_diss" => "W",
-        g if g.starts_with("F_") => "N",
-        _ => return None,
-    })
+/// The unit of a metric over the columns `names` of `model` (the norm of a vector
+/// output's components): the unit the model declares for them, when they share one.
+pub fn metric_unit(model: &dyn super::CatalogModel, names: &[&str]) -> Option<&'static str> {
+    let units: Vec<&'static str> = names
+        .iter()
+        .map(|name| super::columns::column_unit(model, name).0)
+        .collect();
+    let first = *units.first()?;
+    (!first.is_empty() && units.iter().all(|u| *u == first)).then_some(first)
 }
 
 #[cfg(test)]
@@ -385,10 +376,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn knows_the_quick_return_units() {
-        assert_eq!(quick_return_unit("Tc"), Some("N·m"));
-        assert_eq!(quick_return_unit("F_O1"), Some("N"));
-        assert_eq!(quick_return_unit("F_O1_y"), Some("N"));
-        assert_eq!(quick_return_unit("R1_11"), None);
+    fn take_metric_units_from_the_model() {
+        let quick = crate::catalog::find("quick_return").unwrap().model;
+        assert_eq!(metric_unit(quick, &["Tc_x", "Tc_y", "Tc_z"]), Some("N·m"));
+        assert_eq!(metric_unit(quick, &["F_O1_y"]), Some("N"));
+        assert_eq!(metric_unit(quick, &["crank_angle", "Tc_x"]), None);
+        let servo = crate::catalog::find("dc_motor").unwrap().model;
+        assert_eq!(metric_unit(servo, &["shaft_torque"]), Some("N·m"));
     }
 }

@@ -79,15 +79,20 @@ pub(super) fn params(name: &str, states: bool, outputs: bool) -> Result<(), Fail
             .initial_state(&defaults)
             .map_err(|e| Failure::Other(e.to_string()))?;
         let names = model.state_names();
-        let w = names.iter().map(|n| n.len()).max().unwrap_or(0);
         text.push_str(&format!(
             "\nstates ({}; set initial values in a scenario's `initial:`)\n",
             names.len()
         ));
-        text.push_str(&format!("  {:<w$}  initial value\n", "name"));
-        for (n, v) in names.iter().zip(&x0) {
-            text.push_str(&format!("  {n:<w$}  {v}\n"));
-        }
+        let rows: Vec<[String; 4]> = names
+            .iter()
+            .zip(&x0)
+            .enumerate()
+            .map(|(i, (name, x))| {
+                let (unit, doc) = described(model.states(), i);
+                [(*name).to_owned(), x.to_string(), unit, doc]
+            })
+            .collect();
+        text.push_str(&table(["name", "initial", "unit", "meaning"], &rows));
     }
     if outputs {
         let names = model.output_names();
@@ -95,9 +100,52 @@ pub(super) fn params(name: &str, states: bool, outputs: bool) -> Result<(), Fail
             "\noutputs ({}; record them with a scenario's `output: record:`)\n",
             names.len()
         ));
-        for n in names {
-            text.push_str(&format!("  {n}\n"));
-        }
+        let rows: Vec<[String; 3]> = names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let (unit, doc) = described(model.outputs(), i);
+                [(*name).to_owned(), unit, doc]
+            })
+            .collect();
+        text.push_str(&table(["name", "unit", "meaning"], &rows));
     }
     print(&text)
+}
+
+/// The unit and the one-line documentation of entry `i` of `infos` (empty where the
+/// model does not describe it).
+fn described(infos: &[bgdsl_runtime::SignalInfo], i: usize) -> (String, String) {
+    infos.get(i).map_or_else(Default::default, |info| {
+        let doc = info.doc.split_whitespace().collect::<Vec<_>>().join(" ");
+        (info.unit.to_owned(), doc)
+    })
+}
+
+/// Rows under a title row, in columns as wide as their widest cell, indented by two.
+fn table<const N: usize>(titles: [&str; N], rows: &[[String; N]]) -> String {
+    let widths: Vec<usize> = (0..N)
+        .map(|i| {
+            rows.iter()
+                .map(|r| r[i].chars().count())
+                .chain([titles[i].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let line = |cells: Vec<&str>| {
+        let padded: Vec<String> = cells
+            .iter()
+            .zip(&widths)
+            .map(|(cell, &w)| format!("{cell:<w$}"))
+            .collect();
+        format!("  {}", padded.join("  ").trim_end())
+    };
+    let mut text = line(titles.to_vec());
+    text.push('\n');
+    for row in rows {
+        text.push_str(&line(row.iter().map(String::as_str).collect()));
+        text.push('\n');
+    }
+    text
 }

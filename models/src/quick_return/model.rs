@@ -173,20 +173,34 @@ bond_graph! {
         /// `w_drive` part-way (an FMU's tunable parameter), still gets atan2's angle
         /// plus whole turns, offset by the turns the drive's angle counts there.
         output crank_angle = unwrapped_angle(crank.R.m21.atan2(crank.R.m22),
-            theta0 + w_drive * t - jC.spring.q.z);
-        output R1: Matrix3 = crank.R;
-        output h1: Vector3 = crank.rotation.p;
-        output F_O1: Vector3 = -j01.rel.e;
-        output Tc: Vector3 = jC.rel.e;
-        output F_A2: Vector3 = j12.rel.e;
-        output r_C3: Vector3 = rocker.r;
-        output p3: Vector3 = rocker.translation.p;
-        output F_O3: Vector3 = -j03.rel.e;
-        output R4: Matrix3 = rod.R;
-        output r_C5: Vector3 = output_slider.r;
-        output p5: Vector3 = output_slider.translation.p;
-        output F_O5: Vector3 = j45.rel.e;
-        output F_5C: Vector3 = -j5C.rel.e;
+            theta0 + w_drive * t - jC.spring.q.z) in "rad";
+        /// Crank orientation (crank frame to frame 0)
+        output R1: Matrix3 = crank.R in "1";
+        /// Crank angular momentum in frame 0
+        output h1: Vector3 = crank.rotation.p in "kg·m²/s";
+        /// Force of joint O1 (ground) on the crank
+        output F_O1: Vector3 = -j01.rel.e in "N";
+        /// Drive torque on the crank
+        output Tc: Vector3 = jC.rel.e in "N·m";
+        /// Force of the crank pin A on the slider
+        output F_A2: Vector3 = j12.rel.e in "N";
+        /// Rocker centre-of-mass position
+        output r_C3: Vector3 = rocker.r in "m";
+        /// Rocker momentum
+        output p3: Vector3 = rocker.translation.p in "kg·m/s";
+        /// Force of joint O3 (ground) on the rocker
+        output F_O3: Vector3 = -j03.rel.e in "N";
+        /// Connecting-rod orientation (rod frame to frame 0)
+        output R4: Matrix3 = rod.R in "1";
+        /// Output-slider centre-of-mass position
+        output r_C5: Vector3 = output_slider.r in "m";
+        /// Output-slider momentum
+        output p5: Vector3 = output_slider.translation.p in "kg·m/s";
+        /// Force of the connecting rod on the output slider at O5
+        output F_O5: Vector3 = j45.rel.e in "N";
+        /// Force of the guide on the output slider
+        output F_5C: Vector3 = -j5C.rel.e in "N";
+        /// Stored energy: kinetic, elastic and potential
         output E_stored = 0.5 * (crank.translation.p.dot(&crank.translation.f)
                 + crank.rotation.p.dot(&crank.rotation.f) + slider.translation.p.dot(&slider.translation.f)
                 + slider.rotation.p.dot(&slider.rotation.f) + rocker.translation.p.dot(&rocker.translation.f)
@@ -198,13 +212,15 @@ bond_graph! {
                 + j23r.spring.q.dot(&j23r.spring.e) + jC.spring.q.dot(&jC.spring.e)
                 + j34.spring.q.dot(&j34.spring.e) + j45.spring.q.dot(&j45.spring.e)
                 + j5C.spring.q.dot(&j5C.spring.e))
-            + g * (m1 * crank.r.y + m2 * slider.r.y + m3 * rocker.r.y + m4 * rod.r.y + m5 * output_slider.r.y);
-        output P_in = drive.e.dot(&drive.f);
+            + g * (m1 * crank.r.y + m2 * slider.r.y + m3 * rocker.r.y + m4 * rod.r.y + m5 * output_slider.r.y) in "J";
+        /// Power delivered by the drive
+        output P_in = drive.e.dot(&drive.f) in "W";
+        /// Power dissipated in the joints' dampers
         output P_diss = j01.damper.e.dot(&j01.damper.f) + j12.damper.e.dot(&j12.damper.f)
             + j03.damper.e.dot(&j03.damper.f) + j3C.damper.e.dot(&j3C.damper.f)
             + j23r.damper.e.dot(&j23r.damper.f) + jC.damper.e.dot(&jC.damper.f)
             + j34.damper.e.dot(&j34.damper.f) + j45.damper.e.dot(&j45.damper.f)
-            + j5C.damper.e.dot(&j5C.damper.f);
+            + j5C.damper.e.dot(&j5C.damper.f) in "W";
     }
 }
 

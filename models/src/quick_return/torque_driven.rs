@@ -119,24 +119,24 @@ bond_graph! {
             k = diag3(K5C.x, K5C.y, K5C.z), c = diag3(R5C.x, R5C.y, R5C.z));
 
         /// Crank speed about Z0, rad/s.
-        output crank_speed: f64 = crank.w.f.z;
+        output crank_speed: f64 = crank.w.f.z in "rad/s";
         /// Crank angle about Z0, rad, unwrapped from `theta0` as the speed-driven
         /// model's: `atan2(R1[1][0], R1[1][1])` plus the whole turns that bring it
         /// nearest to the angle the crank turned through, which the bearing's spring
         /// state about Z0 already integrates (its deflection is `−∫ w_z dt`, as
         /// nothing holds that axis).
         output crank_angle: f64 = unwrapped_angle(crank.R.m21.atan2(crank.R.m22),
-            theta0 - bearing.spring.q.z);
+            theta0 - bearing.spring.q.z) in "rad";
         /// Output slider position along X0, m.
-        output slider_x: f64 = output_slider.r.x;
+        output slider_x: f64 = output_slider.r.x in "m";
         /// The motor's power, W.
-        output motor_power: f64 = motor.e.dot(&motor.f);
+        output motor_power: f64 = motor.e.dot(&motor.f) in "W";
         /// Power dissipated in every joint's damper, W.
         output dissipated: f64 = j01.damper.e.dot(&j01.damper.f) + j12.damper.e.dot(&j12.damper.f)
             + j03.damper.e.dot(&j03.damper.f) + j3C.damper.e.dot(&j3C.damper.f)
             + j23r.damper.e.dot(&j23r.damper.f) + bearing.damper.e.dot(&bearing.damper.f)
             + j34.damper.e.dot(&j34.damper.f) + j45.damper.e.dot(&j45.damper.f)
-            + j5C.damper.e.dot(&j5C.damper.f);
+            + j5C.damper.e.dot(&j5C.damper.f) in "W";
     }
 }
 

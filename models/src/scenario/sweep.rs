@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use super::locate::KeyPath;
 use super::resolve::{column, Places};
 use super::{Diagnostics, Origin, SweepSpec};
-use crate::catalog::{quick_return_unit, Axis, Entry, Metric, ResultsKind, RunPlan, SweepPlan};
+use crate::catalog::{metric_unit, Axis, Entry, Metric, RunPlan, SweepPlan};
 
 /// The sweep: axes, metrics and window, with every point's parameters checked.
 pub(super) fn sweep(
@@ -125,13 +125,11 @@ pub(super) fn sweep(
     for (i, name) in spec.peaks.iter().enumerate() {
         let origin = places.file(&root.key("peaks").index(i));
         if let Some(columns) = column(entry, name, origin, d) {
+            let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
             metrics.push(Metric {
                 name: name.clone(),
+                unit: metric_unit(entry.model, &names),
                 columns: columns.into_iter().map(|(_, c)| c).collect(),
-                unit: match entry.results {
-                    ResultsKind::QuickReturn => quick_return_unit(name),
-                    ResultsKind::Trajectory => None,
-                },
             });
         }
     }
