@@ -224,7 +224,7 @@ pub static MODELS: &[Entry] = &[
     Entry {
         name: "quick_return",
         description: "the quick return mechanism of Vaz & Thommen (2010): five links in 3-D, \
-                      compliant joints, driven at 5 rad/s",
+                      compliant joints, the crank driven at a constant speed",
         model: &Adapter::<QuickReturn>(PhantomData),
         results: ResultsKind::QuickReturn,
         t_end: 5.0,

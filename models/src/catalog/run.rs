@@ -388,6 +388,9 @@ where
                 _ => (0.0, 0.0),
             };
             let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
+            if let Ok(params) = params_from::<QuickReturnParams>(&plan.params) {
+                summary = summary.with_params(&params);
+            }
             summary.file = Some((files[0].clone(), write_time));
             summary.failure = failure.clone();
             summary.to_string()

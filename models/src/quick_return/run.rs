@@ -165,7 +165,10 @@ pub fn record<M: Model>(model: &M, solver: Solver, times: &[f64]) -> Result<Reco
 /// [`Error::MissingOutputs`] if the model lacks a column; [`Error::Solver`] if the run
 /// fails (including a wall-time limit in the solver's options); [`Error::Io`] if the
 /// directory or the file cannot be written.
-pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Result<Summary, Error> {
+pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Result<Summary, Error>
+where
+    M::Params: 'static,
+{
     let times = sample_times();
     debug_assert_eq!(times.len(), N_ROWS);
     let recorded = record(model, solver, &times)?;
@@ -179,6 +182,9 @@ pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Resu
     recorded.results.write_csv(&path)?;
     let write_time = started.elapsed();
     let mut summary = Summary::of(&recorded);
+    if let Some(params) = (model.params() as &dyn core::any::Any).downcast_ref() {
+        summary = summary.with_params(params);
+    }
     summary.file = Some((path, write_time));
     Ok(summary)
 }

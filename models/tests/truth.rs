@@ -1,0 +1,96 @@
+//! End-to-end tests of what the `models` program accepts and what its outputs claim:
+//! summaries computed from the run's own parameters, sweeps and scenarios validated
+//! whole (every error, in line order), the run flags, stiff-model advice, figures that
+//! draw something, and default runs that show each model's behaviour.
+
+mod common;
+
+use std::fs;
+use std::path::Path;
+
+use common::{files, run, run_in, scratch, Csv};
+
+fn assert_success(run: &common::Run) {
+    assert_eq!(
+        run.code,
+        Some(0),
+        "stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+}
+
+/// The `rigid links` column of a summary row starting with `quantity`.
+fn rigid_column(stdout: &str, quantity: &str) -> String {
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with(quantity))
+        .unwrap_or_else(|| panic!("no row {quantity:?} in:\n{stdout}"));
+    // `  quantity (26) measured (16) rigid (12) detail`
+    line.chars().skip(2 + 27 + 17).take(12).collect::<String>()
+}
+
+/// The reference column is the rigid mechanism with the run's own geometry and drive
+/// speed. For a crank shaper (crank r < d) the rocker's extremes are where O3–A is
+/// tangent to the crank circle, at α = asin(r/d) from the vertical: stroke 2 L3 r/d,
+/// ratio (π + 2α)/(π − 2α); the period is 2π/w_drive.
+#[test]
+fn the_rigid_reference_follows_the_parameters() {
+    let dir = scratch("rigid_reference");
+    let out = run(&[
+        "run",
+        "quick_return",
+        "--set",
+        "d=0.3",
+        "--set",
+        "w_drive=4",
+        "--t-end",
+        "0.2",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    let (r, d, l3, w) = (0.2f64, 0.3f64, 0.7f64, 4.0f64);
+    let alpha = (r / d).asin();
+    let pi = core::f64::consts::PI;
+    let expected = [
+        ("output-slider stroke", format!("{:.5} m", 2.0 * l3 * r / d)),
+        (
+            "quick-return time ratio",
+            format!("{:.5}", (pi + 2.0 * alpha) / (pi - 2.0 * alpha)),
+        ),
+        ("period", format!("{:.5} s", 2.0 * pi / w)),
+    ];
+    for (quantity, value) in expected {
+        assert_eq!(
+            rigid_column(&out.stdout, quantity).trim(),
+            value,
+            "{quantity}:\n{}",
+            out.stdout
+        );
+    }
+
+    // An undriven crank has no cycle: no rigid value, and the summary says why.
+    let out = run(&[
+        "run",
+        "quick_return",
+        "--set",
+        "w_drive=0",
+        "--t-end",
+        "0.05",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    for quantity in ["output-slider stroke", "quick-return time ratio", "period"] {
+        assert_eq!(rigid_column(&out.stdout, quantity).trim(), "n/a");
+    }
+    assert!(
+        out.stdout
+            .contains("(rigid links n/a: the crank is not driven (w_drive = 0 rad/s))"),
+        "{}",
+        out.stdout
+    );
+}
