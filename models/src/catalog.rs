@@ -89,7 +89,9 @@ use serde_yaml::Mapping;
 pub use checks::{Checks, Problem};
 pub use columns::{resolve_columns, Column};
 pub use figures::figure_ids;
-pub use params::{describe_value, format_value, parse_value, set_parameter};
+pub use params::{
+    describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
+};
 pub use physics::Catalogued;
 pub use run::{Observer, Outcome, Plots, RunError, RunPlan, Silent};
 pub use sweep::{quick_return_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};

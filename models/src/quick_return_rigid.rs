@@ -1115,9 +1115,16 @@ mod tests {
         };
         let cycle = try_quick_return_cycle(&p).unwrap();
         let alpha = (0.2f64 / 0.3).asin();
-        assert!(close(cycle.stroke, 2.0 * 0.7 * 0.2 / 0.3, 1e-12), "{cycle:?}");
         assert!(
-            close(cycle.time_ratio, (PI + 2.0 * alpha) / (PI - 2.0 * alpha), 1e-12),
+            close(cycle.stroke, 2.0 * 0.7 * 0.2 / 0.3, 1e-12),
+            "{cycle:?}"
+        );
+        assert!(
+            close(
+                cycle.time_ratio,
+                (PI + 2.0 * alpha) / (PI - 2.0 * alpha),
+                1e-12
+            ),
             "{cycle:?}"
         );
     }

@@ -72,6 +72,7 @@
 mod diagnostic;
 pub mod locate;
 mod resolve;
+mod schema;
 mod solver;
 mod sweep;
 
@@ -115,6 +116,11 @@ pub struct Scenario {
     /// A sweep over one or two parameters.
     #[serde(default)]
     pub sweep: Option<SweepSpec>,
+    /// What was wrong with the file's shape (unknown keys, wrong types), found while
+    /// reading it; the entries at fault were left out. [`resolve`] reports these with
+    /// its own.
+    #[serde(skip)]
+    pub read_errors: Diagnostics,
 }
 
 /// `time:` of a scenario.
@@ -211,8 +217,10 @@ pub struct Loaded {
 ///
 /// # Errors
 ///
-/// One [`Diagnostic`]: the file cannot be read, is not YAML, or does not fit the
-/// schema (wrong type, unknown key, missing `model`), at the place serde_yaml reports.
+/// The file cannot be read or is not YAML (one [`Diagnostic`]), or its `model` is
+/// missing or unusable (with every other shape error of the file). Other shape errors
+/// (unknown keys, wrong types) do not stop the reading: they are kept in
+/// [`Scenario::read_errors`] for [`resolve`] to report with its own.
 pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         let mut d = Diagnostics::default();
@@ -235,11 +243,26 @@ pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
 /// As [`load`].
 pub fn parse(path: PathBuf, text: String) -> Result<Loaded, Diagnostics> {
     let source = Source { path, text };
-    match serde_yaml::from_str::<Scenario>(&source.text) {
-        Ok(scenario) => Ok(Loaded { source, scenario }),
+    let mut d = Diagnostics::default();
+    let mut value = match serde_yaml::from_str::<Value>(&source.text) {
+        Ok(value) => value,
         Err(e) => {
-            let mut d = Diagnostics::default();
             d.push(source.at_error(&e), yaml_message(&e));
+            return Err(d);
+        }
+    };
+    if !schema::check(&mut value, &source, &mut d) {
+        d.sort();
+        return Err(d);
+    }
+    match serde_yaml::from_value::<Scenario>(value) {
+        Ok(mut scenario) => {
+            scenario.read_errors = d;
+            Ok(Loaded { source, scenario })
+        }
+        Err(e) => {
+            d.push(source.at_error(&e), yaml_message(&e));
+            d.sort();
             Err(d)
         }
     }

@@ -91,8 +91,26 @@ pub fn resolve(
     overrides: &Overrides,
     name: &str,
 ) -> Result<Plan, Diagnostics> {
+    let mut d = scenario.read_errors.clone();
+    let plan = resolve_into(source, scenario, overrides, name, &mut d);
+    match plan {
+        Some(plan) if d.is_empty() => Ok(plan),
+        _ => {
+            d.sort();
+            Err(d)
+        }
+    }
+}
+
+/// [`resolve`], with the diagnostics pushed into `d` as found.
+fn resolve_into(
+    source: Option<&Source>,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    name: &str,
+    d: &mut Diagnostics,
+) -> Option<Plan> {
     let places = Places { source };
-    let mut d = Diagnostics::default();
     let entry = match catalog::find(&scenario.model) {
         Ok(entry) => entry,
         Err(e) => {
@@ -101,16 +119,16 @@ pub fn resolve(
                 None => Origin::Nowhere,
             };
             d.push(origin, e.to_string());
-            return Err(d);
+            return None;
         }
     };
-    let (params, origins) = parameters(entry, scenario, overrides, &places, &mut d);
-    let initial = initial_conditions(entry, scenario, &places, &mut d);
-    let span = time_span(entry, scenario, overrides, &places, &mut d);
-    let times = span.and_then(|span| sample_times(entry, scenario, span, &places, &mut d));
-    let solver = solver(entry, scenario, overrides, &places, &mut d);
-    let record = record(entry, scenario, &places, &mut d);
-    let plots = plots(entry, scenario, overrides, &places, &mut d);
+    let (params, origins) = parameters(entry, scenario, overrides, &places, d);
+    let initial = initial_conditions(entry, scenario, &places, d);
+    let span = time_span(entry, scenario, overrides, &places, d);
+    let times = span.and_then(|span| sample_times(entry, scenario, span, &places, d));
+    let solver = solver(entry, scenario, overrides, &places, d);
+    let record = record(entry, scenario, &places, d);
+    let plots = plots(entry, scenario, overrides, &places, d);
     let title = scenario
         .description
         .clone()
@@ -130,20 +148,17 @@ pub fn resolve(
     };
     let job = match (&scenario.sweep, times, solver) {
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
-        (Some(spec), Some(times), Some(solver)) => {
-            let plan = base(times, solver);
-            match sweep(entry, spec, plan, &origins, &places, &mut d) {
+        (Some(spec), Some(times), solver) => {
+            // A rejected solver is reported already; the sweep is checked all the same.
+            let plan = base(times, solver.unwrap_or_else(entry.solver));
+            match sweep(entry, spec, plan, &origins, &places, d) {
                 Some(sweep) if d.is_empty() => Job::Sweep(sweep),
-                _ => return Err(d),
+                _ => return None,
             }
         }
-        _ => return Err(d),
+        _ => return None,
     };
-    if d.is_empty() {
-        Ok(Plan { entry, job })
-    } else {
-        Err(d)
-    }
+    Some(Plan { entry, job })
 }
 
 /// The parameters: defaults, then the scenario's, then `--set`; each checked by name
@@ -157,7 +172,8 @@ fn parameters(
 ) -> (Mapping, BTreeMap<String, Origin>) {
     let mut params = entry.model.default_parameters();
     let mut origins = BTreeMap::new();
-    let before = d.0.len();
+    // Parameters whose setting was rejected (they keep their defaults).
+    let mut rejected: Vec<String> = Vec::new();
     for (key, value) in scenario.parameters.iter().flatten() {
         let Some(name) = key.as_str() else {
             d.push(
@@ -174,7 +190,10 @@ fn parameters(
             Ok(()) => {
                 origins.insert(name.to_owned(), origin);
             }
-            Err(problem) => d.push(origin, problem.message),
+            Err(problem) => {
+                rejected.push(name.to_owned());
+                d.push(origin, problem.message);
+            }
         }
     }
     for setting in &overrides.set {
@@ -188,24 +207,33 @@ fn parameters(
         };
         let name = name.trim();
         match parse_value(text) {
-            Err(e) => d.push(origin, format!("the value is not YAML: {e}")),
+            Err(e) => {
+                rejected.push(name.to_owned());
+                d.push(origin, format!("the value is not YAML: {e}"));
+            }
             Ok(value) => match set_parameter(entry, &mut params, name, value) {
                 Ok(()) => {
                     origins.insert(name.to_owned(), origin);
                 }
-                Err(problem) => d.push(origin, problem.message),
+                Err(problem) => {
+                    rejected.push(name.to_owned());
+                    d.push(origin, problem.message);
+                }
             },
         }
     }
-    if d.0.len() == before {
-        for problem in entry.model.check(&params) {
-            let origin = problem
-                .keys
-                .iter()
-                .find_map(|k| origins.get(k).cloned())
-                .unwrap_or(Origin::Nowhere);
-            d.push(origin, problem.message);
+    // The physical checks run on what was accepted; a problem that involves a rejected
+    // parameter (now at its default) would be about a value nobody asked for.
+    for problem in entry.model.check(&params) {
+        if problem.keys.iter().any(|k| rejected.contains(k)) {
+            continue;
         }
+        let origin = problem
+            .keys
+            .iter()
+            .find_map(|k| origins.get(k).cloned())
+            .unwrap_or(Origin::Nowhere);
+        d.push(origin, problem.message);
     }
     (params, origins)
 }
@@ -605,5 +633,81 @@ mod tests {
             &Overrides::default()
         )
         .is_ok());
+    }
+
+    fn lines(d: &Diagnostics) -> Vec<String> {
+        d.0.iter().map(ToString::to_string).collect()
+    }
+
+    /// Before, the first unknown key stopped the reading (hiding the second, and every
+    /// value check); a NaN hid the negative mass; the order was that of the checks.
+    #[test]
+    fn reports_every_error_in_one_go_in_line_order() {
+        let text = "model: quick_return\n\
+                    output:\n  record: [Tc]\n  every: 2\n\
+                    solver:\n  rtol: 0.5\n  tolerance: 1e-6\n\
+                    time:\n  end: soon\n\
+                    parameters:\n  m1: .nan\n  m2: -1\n  g: 1e400\n\
+                    colour: red\n";
+        let d = plan_of(text, &Overrides::default()).unwrap_err();
+        let lines = lines(&d);
+        let expected = [
+            "s.yaml:4:3: output: unknown field `every`, expected one of `interval`, `count`, `record`",
+            "s.yaml:6:3: rtol must be in [1e-14, 0.1], found 0.5",
+            "s.yaml:7:3: solver: unknown field `tolerance`, expected one of `method`",
+            "s.yaml:9:3: time.end: invalid type: string \"soon\", expected f64",
+            "s.yaml:11:3: parameter `m1` (crank mass (Table 1), kg) must be finite, found NaN",
+            "s.yaml:12:3: parameter `m2` (",
+            "s.yaml:13:3: parameter `g`: the number 1e400 overflows",
+            "s.yaml:14:1: unknown field `colour`, expected one of `model`",
+        ];
+        assert_eq!(lines.len(), expected.len(), "{lines:#?}");
+        for (line, start) in lines.iter().zip(expected) {
+            assert!(
+                line.starts_with(start),
+                "{line:?} should start with {start:?}"
+            );
+        }
+        assert!(lines[5].contains("must be > 0, found -1"), "{}", lines[5]);
+    }
+
+    #[test]
+    fn a_number_too_large_says_it_overflows() {
+        let overrides = Overrides {
+            set: vec!["g=1e400".into()],
+            ..Overrides::default()
+        };
+        let d = plan_of("model: quick_return\n", &overrides).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "--set g=1e400: parameter `g`: the number 1e400 overflows: the largest finite \
+              number is about 1.7976931348623157e308"
+            ]
+        );
+        let d = plan_of(
+            "model: oscillator\ntime:\n  end: -1e999\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:3:3: time.end: the number -1e999 overflows: the largest finite number is \
+              about 1.7976931348623157e308"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_file_without_a_model_still_reports_its_other_shape_errors() {
+        let d = plan_of("time:\n  ends: 2\n", &Overrides::default()).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:1:1: missing field `model`",
+                "s.yaml:2:3: time: unknown field `ends`, expected `start` or `end`"
+            ]
+        );
     }
 }

@@ -159,9 +159,12 @@ pub(super) fn sweep(
         metrics,
         window,
     };
-    // Every point must make physical sense; report the first that does not.
+    // Every point must make physical sense; report the first that does not. Problems
+    // that no swept parameter takes part in are those of the base parameters, reported
+    // with them.
     for point in plan.points() {
-        let problems = entry.model.check(&plan.plan_at(&point).params);
+        let mut problems = entry.model.check(&plan.plan_at(&point).params);
+        problems.retain(|p| plan.axes.iter().any(|a| p.keys.contains(&a.name)));
         if problems.is_empty() {
             continue;
         }
