@@ -94,3 +94,26 @@ fn the_rigid_reference_follows_the_parameters() {
         out.stdout
     );
 }
+
+/// `--set` of a parameter the sweep varies used to be ignored without a word.
+#[test]
+fn set_of_a_swept_parameter_is_refused() {
+    let dir = scratch("set_swept");
+    let out_dir = dir.join("out");
+    let scenario = common::scenarios_dir().join("quick_return_speed_sweep.yaml");
+    let out = run(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "--set",
+        "w_drive=3",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.code, Some(2), "{}", out.stderr);
+    assert_eq!(
+        out.stderr.trim(),
+        "error: --set w_drive=3: `w_drive` is swept by the scenario (sweep.parameters[0]), \
+         so a value set here would be ignored; drop the --set, or the sweep's axis"
+    );
+    assert!(!out_dir.exists());
+}

@@ -28,11 +28,11 @@
 //! sweep:                         # optional: run a grid of points instead of one run
 //!   parameters:                  #   one or two scalar parameters
 //!     - name: w_drive
-//!       from: 2.0                #   `from`, `to`, `steps` (values, ends included),
-//!       to: 10.0
+//!       from: 2.0                #   `from` <= `to`, `steps` >= 1 values, ends
+//!       to: 10.0                 #   included (one step: `to` = `from`),
 //!       steps: 17
 //!     # - name: R_C
-//!     #   values: [50, 100, 200] #   or a list of `values`
+//!     #   values: [50, 100, 200] #   or a list of distinct finite `values`
 //!   peaks: [Tc, F_O1]            #   outputs whose peak magnitude each run reports
 //!   window: {from: 4.0, to: 8.0} #   optional: s; default the second half of the span
 //! ```
@@ -56,18 +56,22 @@
 //!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
 //!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its
 //!   components) over the window; plus one chart per peak (unless `plots: none`). A
-//!   sweep writes no per-run results.
+//!   sweep writes no per-run results. A swept parameter cannot also be set (in
+//!   `parameters` or by `--set`): that value would be ignored, so it is an error.
 //!
 //! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
 //! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`).
 //!
 //! # Errors
 //!
-//! Everything is checked before anything is written, and every error found is reported,
-//! one per line, as `file:line:column: message`: syntax errors and wrong types (where
-//! serde_yaml places them), unknown keys (with the valid ones listed), unknown
-//! parameter, state, output or figure names (with the valid ones), and values out of
-//! range (placed at their key by [`locate`]; see its limits).
+//! Everything is checked before anything is written, and every error found is reported
+//! in one go, one per line as `file:line:column: message`, sorted by line and column
+//! (then the flags' errors): a syntax error (which stops the reading), every unknown key
+//! (with the valid ones listed) and every value of the wrong type (the entry is then
+//! left out and the rest still checked), unknown parameter, state, output or figure
+//! names (with the valid ones), numbers too large for an `f64` (`1e400` overflows), and
+//! values out of range, each independently of the others (a NaN does not hide a
+//! negative mass). Errors are placed at their key by [`locate`] (see its limits).
 
 mod diagnostic;
 pub mod locate;

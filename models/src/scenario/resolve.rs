@@ -710,4 +710,73 @@ mod tests {
             ]
         );
     }
+
+    const SWEEP: &str = "model: oscillator\nsweep:\n  parameters:\n    - name: k\n";
+
+    /// Before, a reversed range swept downwards, a repeated value ran twice, one step was
+    /// refused, and `--set` of a swept parameter was silently ignored.
+    #[test]
+    fn a_sweep_range_must_make_sense() {
+        let cases = [
+            (
+                "      from: 10\n      to: 1\n      steps: 3\n",
+                "s.yaml:6:7: `to` (1) is below `from` (10); a sweep goes up: swap them",
+            ),
+            (
+                "      from: 2\n      to: 2\n      steps: 3\n",
+                "s.yaml:7:7: `from` and `to` are both 2, so the 3 steps would all be the same run",
+            ),
+            (
+                "      from: 1\n      to: 2\n      steps: 0\n",
+                "s.yaml:7:7: `steps` (the number of values, ends included) must be >= 1, found 0",
+            ),
+            (
+                "      from: .nan\n      to: 2\n      steps: 3\n",
+                "s.yaml:5:7: `from` must be a finite number, found NaN",
+            ),
+            (
+                "      values: [1, 2, 1]\n",
+                "s.yaml:5:7: 1 is listed twice; each value is one run, list it once",
+            ),
+            (
+                "      values: [1, .inf]\n",
+                "s.yaml:5:7: every value must be finite, found inf",
+            ),
+        ];
+        for (axis, expected) in cases {
+            let text = format!("{SWEEP}{axis}  peaks: [x]\n");
+            let d = plan_of(&text, &Overrides::default()).unwrap_err();
+            assert_eq!(lines(&d).len(), 1, "{text}\n{d}");
+            assert!(lines(&d)[0].starts_with(expected), "{text}\n{d}");
+        }
+        // One step from a value to itself is one run.
+        let text = format!("{SWEEP}      from: 2\n      to: 2\n      steps: 1\n  peaks: [x]\n");
+        let Job::Sweep(sweep) = plan_of(&text, &Overrides::default()).unwrap().job else {
+            panic!("a sweep");
+        };
+        assert_eq!(sweep.axes[0].values, [2.0]);
+    }
+
+    #[test]
+    fn setting_a_swept_parameter_is_an_error_naming_the_sweep() {
+        let text = format!("{SWEEP}      values: [1, 2]\n  peaks: [x]\n");
+        let overrides = Overrides {
+            set: vec!["k=5".into()],
+            ..Overrides::default()
+        };
+        let d = plan_of(&text, &overrides).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "--set k=5: `k` is swept by the scenario (sweep.parameters[0]), so a value set \
+              here would be ignored; drop the --set, or the sweep's axis"
+            ]
+        );
+        let text = format!("model: oscillator\nparameters:\n  k: 5\n{}", &text[18..]);
+        let d = plan_of(&text, &Overrides::default()).unwrap_err();
+        assert!(
+            lines(&d)[0].starts_with("s.yaml:3:3: `k` is swept (sweep.parameters[0])"),
+            "{d}"
+        );
+    }
 }
