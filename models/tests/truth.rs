@@ -117,3 +117,81 @@ fn set_of_a_swept_parameter_is_refused() {
     );
     assert!(!out_dir.exists());
 }
+
+/// The flags the messages tell users to set exist, and do what the scenario keys do.
+#[test]
+fn run_flags_set_the_step_budget_span_and_sampling() {
+    let dir = scratch("run_flags");
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--solver",
+        "rk4",
+        "--step",
+        "1e-3",
+        "--t-start",
+        "0.5",
+        "--t-end",
+        "1",
+        "--interval",
+        "0.1",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    assert!(out.stdout.contains("rk4 (step 1e-3 s)"), "{}", out.stdout);
+    assert!(out.stdout.contains("steps          500 "), "{}", out.stdout);
+    let csv = Csv::read(&dir.join("oscillator.csv"));
+    let t = csv.column("t");
+    assert_eq!(t.len(), 6, "{t:?}");
+    for (k, t) in t.iter().enumerate() {
+        assert!((t - (0.5 + 0.1 * k as f64)).abs() < 1e-12, "{t}");
+    }
+
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--max-steps",
+        "3",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("the budget of 3 steps was used up"),
+        "{}",
+        out.stderr
+    );
+
+    // The same checks as the scenario's keys, placed at the flags, all reported.
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--step",
+        "0.001",
+        "--interval",
+        "-1",
+        "--max-steps",
+        "0",
+        "--t-start",
+        "nan",
+        "--out",
+        dir.join("never").to_str().unwrap(),
+    ]);
+    assert_eq!(out.code, Some(2), "{}", out.stderr);
+    let lines: Vec<&str> = out.stderr.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            "error: --t-start NaN: the start time must be a finite number of seconds, found NaN",
+            "error: --step 0.001: `step` applies only to the fixed-step solvers rk4 and \
+             dopri5-fixed, not radau5",
+            "error: --max-steps 0: max_steps must be an integer > 0, found 0",
+        ],
+        "{}",
+        out.stderr
+    );
+    assert!(!dir.join("never").exists());
+}

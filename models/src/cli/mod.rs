@@ -6,7 +6,8 @@
 //! models params <model> [--states] [--outputs]
 //!                                         parameters with defaults, units and docs
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
-//!            [--solver NAME] [--rtol X] [--atol X] [--t-end X] [--no-plots]
+//!            [--solver NAME] [--rtol X] [--atol X] [--step X] [--max-steps N]
+//!            [--t-start X] [--t-end X] [--interval X] [--no-plots]
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -18,6 +19,11 @@
 //! | 1 | the run failed or was interrupted (its partial results are written, marked `.partial`), or a file could not be written, or `dot` failed |
 //! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error; nothing was written |
 //! | 130 | a second Ctrl-C during a run |
+//!
+//! The flags of `run` override the scenario's keys of the same meaning (`--step` and
+//! `--max-steps` its `solver.step` and `solver.max_steps`, `--t-start` and `--t-end` its
+//! `time`, `--interval` its `output.interval` or `output.count`) and are checked by the
+//! same code, with the same messages (placed at the flag).
 //!
 //! Errors go to stderr, one line each (a scenario with several errors gives several
 //! lines, each `file:line:column: message`); summaries go to stdout.
@@ -118,9 +124,21 @@ pub struct RunArgs {
     /// Absolute tolerance of an adaptive solver, > 0.
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub atol: Option<f64>,
+    /// The start of the time span, s [default: 0, or the scenario's `time.start`].
+    #[arg(long = "t-start", value_name = "X", allow_negative_numbers = true)]
+    pub t_start: Option<f64>,
     /// The end of the time span, s.
     #[arg(long = "t-end", value_name = "X", allow_negative_numbers = true)]
     pub t_end: Option<f64>,
+    /// The step of a fixed-step solver (rk4, dopri5-fixed), s, > 0.
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub step: Option<f64>,
+    /// The solver's step budget, > 0.
+    #[arg(long = "max-steps", value_name = "N")]
+    pub max_steps: Option<usize>,
+    /// Seconds between samples, > 0 (replaces the scenario's `interval` or `count`).
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub interval: Option<f64>,
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,

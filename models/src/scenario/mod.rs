@@ -60,7 +60,9 @@
 //!   `parameters` or by `--set`): that value would be ignored, so it is an error.
 //!
 //! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
-//! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`).
+//! `--rtol`, `--atol`, `--step`, `--max-steps`, `--t-start`, `--t-end`, `--interval`
+//! (replacing `interval` or `count`), and `--no-plots` (`plots: none`); each is checked
+//! as its key is.
 //!
 //! # Errors
 //!

@@ -8,7 +8,7 @@ use bgdsl_runtime::Solver;
 use serde_yaml::Mapping;
 
 use super::locate::KeyPath;
-use super::solver::solver;
+use super::solver::{pick, solver};
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
@@ -33,8 +33,16 @@ pub struct Overrides {
     pub rtol: Option<f64>,
     /// Absolute tolerance.
     pub atol: Option<f64>,
+    /// The start of the time span, s.
+    pub t_start: Option<f64>,
     /// The end of the time span, s.
     pub t_end: Option<f64>,
+    /// The step of a fixed-step solver, s.
+    pub step: Option<f64>,
+    /// The solver's step budget.
+    pub max_steps: Option<usize>,
+    /// The sampling interval, s.
+    pub interval: Option<f64>,
     /// Draw no figures.
     pub no_plots: bool,
     /// The output directory.
@@ -125,7 +133,7 @@ fn resolve_into(
     let (params, origins) = parameters(entry, scenario, overrides, &places, d);
     let initial = initial_conditions(entry, scenario, &places, d);
     let span = time_span(entry, scenario, overrides, &places, d);
-    let times = span.and_then(|span| sample_times(entry, scenario, span, &places, d));
+    let times = span.and_then(|span| sample_times(entry, scenario, overrides, span, &places, d));
     let solver = solver(entry, scenario, overrides, &places, d);
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
@@ -301,15 +309,17 @@ fn time_span(
     d: &mut Diagnostics,
 ) -> Option<[f64; 2]> {
     let time = scenario.time.clone().unwrap_or_default();
-    let start = time.start.unwrap_or(0.0);
-    let (end, end_origin) = match (overrides.t_end, time.end) {
-        (Some(t), _) => (t, Origin::Flag(format!("--t-end {t}"))),
-        (None, Some(t)) => (t, places.keys(&["time", "end"])),
-        (None, None) => (entry.t_end, Origin::Nowhere),
-    };
+    let (start, start_origin) = pick(overrides.t_start, time.start, "t-start", || {
+        places.keys(&["time", "start"])
+    })
+    .unwrap_or((0.0, Origin::Nowhere));
+    let (end, end_origin) = pick(overrides.t_end, time.end, "t-end", || {
+        places.keys(&["time", "end"])
+    })
+    .unwrap_or((entry.t_end, Origin::Nowhere));
     if !start.is_finite() {
         d.push(
-            places.keys(&["time", "start"]),
+            start_origin,
             format!("the start time must be a finite number of seconds, found {start}"),
         );
         return None;
@@ -333,13 +343,19 @@ fn time_span(
 fn sample_times(
     entry: &Entry,
     scenario: &Scenario,
+    overrides: &Overrides,
     [start, end]: [f64; 2],
     places: &Places<'_>,
     d: &mut Diagnostics,
 ) -> Option<Vec<f64>> {
     let output = scenario.output.clone().unwrap_or_default();
     let span = end - start;
-    match (output.interval, output.count) {
+    let interval = pick(overrides.interval, output.interval, "interval", || {
+        places.keys(&["output", "interval"])
+    });
+    // `--interval` replaces the file's `count` as well as its `interval`.
+    let count = output.count.filter(|_| overrides.interval.is_none());
+    match (interval, count) {
         (Some(_), Some(_)) => {
             d.push(
                 places.keys(&["output", "count"]),
@@ -358,8 +374,7 @@ fn sample_times(
             Some(bgdsl_runtime::sample_times_uniform(start, end, count))
         }
         (interval, None) => {
-            let origin = places.keys(&["output", "interval"]);
-            let interval = interval.unwrap_or(entry.interval);
+            let (interval, origin) = interval.unwrap_or((entry.interval, Origin::Nowhere));
             if !(interval.is_finite() && interval > 0.0) {
                 d.push(
                     origin,
