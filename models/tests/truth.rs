@@ -195,3 +195,23 @@ fn run_flags_set_the_step_budget_span_and_sampling() {
     );
     assert!(!dir.join("never").exists());
 }
+
+/// A plot of something not recorded used to draw nothing and exit 0 with an empty
+/// "Figures" heading.
+#[test]
+fn a_plot_of_something_not_recorded_is_refused() {
+    let dir = scratch("plot_not_recorded");
+    fs::write(
+        dir.join("s.yaml"),
+        "model: oscillator\noutput:\n  record: [x]\nplots: [speed]\n",
+    )
+    .unwrap();
+    let out = run_in(&dir, &["run", "s.yaml", "--out", "out"]);
+    assert_eq!(out.code, Some(2), "{}", out.stderr);
+    assert_eq!(
+        out.stderr.trim(),
+        "error: s.yaml:4:1: figure `speed` would draw nothing: `speed` is not recorded; add \
+         it to `output.record`"
+    );
+    assert_eq!(files(&dir), ["s.yaml"]);
+}

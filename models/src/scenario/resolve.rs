@@ -137,6 +137,9 @@ fn resolve_into(
     let solver = solver(entry, scenario, overrides, &places, d);
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
+    if scenario.sweep.is_none() {
+        figures_draw_something(entry, &record, &plots, &places, d);
+    }
     let title = scenario
         .description
         .clone()
@@ -538,6 +541,58 @@ fn plots(
     Plots::Only(names.into_values().collect())
 }
 
+/// Every figure asked for has something to draw: for the models other than the quick
+/// return, a chart is of a recorded output, so one of an output `record` leaves out, or
+/// `plots: all` when `record` names no output, would draw nothing.
+fn figures_draw_something(
+    entry: &Entry,
+    record: &Option<Vec<(String, Column)>>,
+    plots: &Plots,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) {
+    if plots == &Plots::Only(Vec::new()) {
+        d.push(
+            places.keys(&["plots"]),
+            "`plots` lists no figure; write `plots: none` to draw none",
+        );
+    }
+    let (ResultsKind::Trajectory, Some(record)) = (entry.results, record) else {
+        return;
+    };
+    let recorded = |name: &str| record.iter().any(|(n, _)| n == name);
+    let outputs = entry.model.output_names();
+    match plots {
+        Plots::None => {}
+        Plots::All => {
+            if !outputs.iter().any(|o| recorded(o)) {
+                d.push(
+                    places.keys(&["output", "record"]),
+                    format!(
+                        "`record` names no output, so `plots: all` would draw nothing; record \
+                         an output of {} ({}) or set `plots: none`",
+                        entry.name,
+                        outputs.join(", ")
+                    ),
+                );
+            }
+        }
+        Plots::Only(ids) => {
+            for (i, id) in ids.iter().enumerate() {
+                if outputs.contains(&id.as_str()) && !recorded(id) {
+                    d.push(
+                        places.file(&KeyPath::keys(&["plots"]).index(i)),
+                        format!(
+                            "figure `{id}` would draw nothing: `{id}` is not recorded; add \
+                             it to `output.record`"
+                        ),
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -793,5 +848,48 @@ mod tests {
             lines(&d)[0].starts_with("s.yaml:3:3: `k` is swept (sweep.parameters[0])"),
             "{d}"
         );
+    }
+
+    /// Before, these ran, drew nothing and showed an empty "Figures" heading.
+    #[test]
+    fn a_figure_that_would_draw_nothing_is_an_error() {
+        let d = plan_of(
+            "model: oscillator\noutput:\n  record: [x]\nplots: [x, speed]\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:4:1: figure `speed` would draw nothing: `speed` is not recorded; add it \
+              to `output.record`"
+            ]
+        );
+        let d = plan_of(
+            "model: oscillator\noutput:\n  record: [mass.p]\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert!(
+            lines(&d)[0].starts_with(
+                "s.yaml:3:3: `record` names no output, so `plots: all` would draw nothing"
+            ),
+            "{d}"
+        );
+        let d = plan_of("model: quick_return\nplots: []\n", &Overrides::default()).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            ["s.yaml:2:1: `plots` lists no figure; write `plots: none` to draw none"]
+        );
+        // Without figures, recording only a state is fine.
+        let no_plots = Overrides {
+            no_plots: true,
+            ..Overrides::default()
+        };
+        assert!(plan_of(
+            "model: oscillator\noutput:\n  record: [mass.p]\n",
+            &no_plots
+        )
+        .is_ok());
     }
 }
