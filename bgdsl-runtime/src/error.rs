@@ -64,6 +64,8 @@ pub enum SolverError {
         /// What is wrong with it.
         problem: SampleTimeProblem,
     },
+    /// The run was asked for no sample time at all, so it would record nothing.
+    NoSampleTimes,
     /// The initial state does not have one value per state of the model.
     StateLengthMismatch {
         /// The model's name.
@@ -226,6 +228,10 @@ impl fmt::Display for SolverError {
             SolverError::NonFiniteStartTime { t0 } => {
                 write!(f, "the start time {} is not a finite number", Num(*t0))
             }
+            SolverError::NoSampleTimes => f.write_str(
+                "no sample times: a run records at least one sample (ask for n >= 1, or a \
+                 non-empty list)",
+            ),
             SolverError::InvalidSampleTimes { index, t, problem } => {
                 write!(f, "sample time #{index} ({}) ", Num(*t))?;
                 match problem {

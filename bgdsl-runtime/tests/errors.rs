@@ -306,3 +306,47 @@ fn a_recorder_can_stop_every_kind_of_run_keeping_what_it_recorded() {
         assert_eq!(recorder.times, [0.0, 0.1, 0.2, 0.3], "{name}");
     }
 }
+
+/// A run asked for no sample used to return Ok with an empty trajectory.
+#[test]
+fn a_run_without_sample_times_is_an_error_for_every_solver() {
+    for name in ["rk4", "dopri5", "dopri5-fixed", "radau5", "rodas4"] {
+        let solver = Solver::from_name(name).expect("a known solver");
+        assert_eq!(
+            bgdsl_runtime::simulate(&Oscillator, solver, 0.0, 1.0, 0).err(),
+            Some(SolverError::NoSampleTimes),
+            "{name}"
+        );
+        let mut sim = Simulation::new(&Oscillator, solver).expect("valid options");
+        let mut traj = Trajectory::for_model::<Oscillator>(2);
+        assert_eq!(
+            sim.run(0.0, &[1.0, 0.0], &[], &mut traj).err(),
+            Some(SolverError::NoSampleTimes),
+            "{name}"
+        );
+        assert_eq!(traj.len(), 0, "{name}");
+        assert_eq!(sim.stats().steps(), 0, "{name}: no step was taken");
+    }
+    assert!(SolverError::NoSampleTimes
+        .to_string()
+        .starts_with("no sample times"));
+}
+
+#[test]
+fn samples_out_of_order_are_refused_before_any_step() {
+    let mut sim = Simulation::new(&Oscillator, Solver::dopri5()).expect("valid options");
+    let mut traj = Trajectory::for_model::<Oscillator>(3);
+    let err = sim
+        .run(0.0, &[1.0, 0.0], &[0.0, 0.5, 0.2], &mut traj)
+        .unwrap_err();
+    assert_eq!(
+        err,
+        SolverError::InvalidSampleTimes {
+            index: 2,
+            t: 0.2,
+            problem: bgdsl_runtime::SampleTimeProblem::Decreasing { previous: 0.5 },
+        }
+    );
+    assert_eq!(traj.len(), 0);
+    assert_eq!(sim.stats().steps(), 0);
+}

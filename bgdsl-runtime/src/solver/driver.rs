@@ -153,8 +153,12 @@ impl Samples<'_> {
         }
     }
 
-    /// Checks that the sample times are finite, `>= t0` and non-decreasing.
+    /// Checks that there is a sample time, and that the sample times are finite,
+    /// `>= t0` and non-decreasing.
     fn validate(&self, t0: f64) -> Result<(), SolverError> {
+        if self.len() == 0 {
+            return Err(SolverError::NoSampleTimes);
+        }
         let mut previous = t0;
         for index in 0..self.len() {
             let t = self.get(index);
@@ -269,8 +273,9 @@ impl<'m, M: Model> Simulation<'m, M> {
         self.stats
     }
 
-    /// Integrates from `(t0, x0)` through `sample_times` (finite, `>= t0`,
-    /// non-decreasing), calling `recorder` at every sample time with the time, the state
+    /// Integrates from `(t0, x0)` through `sample_times` (at least one, finite, `>= t0`,
+    /// non-decreasing; else [`SolverError::NoSampleTimes`] or
+    /// [`SolverError::InvalidSampleTimes`] before any step), calling `recorder` at every sample time with the time, the state
     /// and the outputs ([`Model::outputs`]). Sample times equal to `t0` record `x0`.
     ///
     /// On error the recorder holds the samples before the failure and
@@ -467,7 +472,8 @@ impl<'m, M: Model> Simulation<'m, M> {
 
 /// Simulates `model` from its declared initial state at `t0` to `t_end` with `solver`,
 /// recording `n` evenly spaced samples ([`sample_times_uniform`]) into a
-/// [`Trajectory`].
+/// [`Trajectory`]. `n = 0` is [`SolverError::NoSampleTimes`] (a run that records
+/// nothing is a mistake, not an empty success).
 pub fn simulate<M: Model>(
     model: &M,
     solver: Solver,
