@@ -330,6 +330,11 @@ pub fn find(name: &str) -> Result<&'static Entry, UnknownModel> {
         })
 }
 
+/// The summary's last line: where the run's page is, `report         out/x/index.html`.
+pub(crate) fn report_line(index: &std::path::Path) -> String {
+    format!("report         {}\n", index.display())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -215,3 +215,49 @@ fn a_plot_of_something_not_recorded_is_refused() {
     );
     assert_eq!(files(&dir), ["s.yaml"]);
 }
+
+/// The summary ends by saying where the run's page is, for a run and for a sweep.
+#[test]
+fn the_summary_says_where_index_html_is() {
+    let dir = scratch("report_line");
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--t-end",
+        "0.2",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    let index = dir.join("index.html");
+    assert!(index.is_file());
+    assert_eq!(
+        out.stdout.lines().last(),
+        Some(format!("report         {}", index.display()).as_str()),
+        "{}",
+        out.stdout
+    );
+
+    let sweep_dir = dir.join("sweep");
+    fs::write(
+        dir.join("sweep.yaml"),
+        "model: oscillator\ntime: {end: 0.2}\nplots: none\nsweep:\n  parameters:\n    - name: k\n      values: [50, 100]\n  peaks: [x]\n",
+    )
+    .unwrap();
+    let out = run_in(&dir, &["run", "sweep.yaml", "--out", "sweep"]);
+    assert_success(&out);
+    assert!(sweep_dir.join("index.html").is_file());
+    assert_eq!(
+        out.stdout.lines().last(),
+        Some(
+            format!(
+                "report         {}",
+                Path::new("sweep").join("index.html").display()
+            )
+            .as_str()
+        ),
+        "{}",
+        out.stdout
+    );
+}

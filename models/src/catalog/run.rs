@@ -439,6 +439,7 @@ where
         ));
     }
     let index = figures::index(dir, &plan.title, &summary, &drawn)?;
+    summary.push_str(&super::report_line(&index));
     files.extend(drawn.into_iter().flat_map(|f| f.files));
     files.push(index);
     Ok(Outcome {

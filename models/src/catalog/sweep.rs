@@ -318,6 +318,7 @@ pub fn run_sweep(
         Err(other) => (Vec::new(), Some(other.to_string())),
     };
     let index = figures::index(dir, &plan.base.title, &summary, &drawn)?;
+    summary.push_str(&super::report_line(&index));
     files.extend(drawn.into_iter().flat_map(|f| f.files));
     files.push(index);
     Ok(SweepOutcome {
