@@ -330,3 +330,28 @@ fn every_default_run_shows_its_behaviour() {
         }
     }
 }
+
+/// `--solver rk4` on the stiff flagship said only "evaluated to -inf".
+#[test]
+fn rk4_on_the_stiff_flagship_says_it_is_stiff() {
+    let dir = scratch("rk4_stiff");
+    let out = run(&[
+        "run",
+        "quick_return",
+        "--solver",
+        "rk4",
+        "--t-end",
+        "0.2",
+        "--no-plots",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("The model is probably stiff")
+            && out.stderr.contains("use a stiff solver, radau5 or rodas4")
+            && out.stderr.contains("(the step was 0.001 s)"),
+        "{}",
+        out.stderr
+    );
+}

@@ -8,6 +8,7 @@ use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
 use super::stats::Stats;
 use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
+use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
 use crate::model::Model;
@@ -330,13 +331,38 @@ impl<'m, M: Model> Simulation<'m, M> {
             k.restart();
         }
         match self.solver {
-            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
-                self.run_fixed(o, samples, recorder)?
-            }
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => self
+                .run_fixed(o, samples, recorder)
+                .map_err(|cause| self.diagnose_fixed(cause, o.step, t0, x0))?,
             Solver::DormandPrince(o) => self.run_adaptive(&o, samples, recorder)?,
             Solver::Radau5(_) | Solver::Rodas4(_) => self.run_stiff(samples, recorder)?,
         }
         Ok(self.stats)
+    }
+
+    /// A fixed-step failure that stiffness explains (non-finite values or a vanishing
+    /// step, with `step` beyond the method's stability limit on the largest eigenvalue of
+    /// the Jacobian at the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`];
+    /// any other is returned as it is.
+    fn diagnose_fixed(&self, cause: SolverError, step: f64, t0: f64, x0: &[f64]) -> SolverError {
+        let explicable = matches!(
+            cause,
+            SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
+        );
+        let bound = match self.solver {
+            Solver::Rk4(_) => stiffness::RK4_STABILITY,
+            _ => stiffness::DOPRI5_STABILITY,
+        };
+        match stiffness::spectral_radius(self.model.get(), t0, x0) {
+            Some(rho) if explicable && rho * step > bound => SolverError::ProbablyStiff {
+                cause: Box::new(cause),
+                method: self.solver.name(),
+                step,
+                spectral_radius: rho,
+                stable_step: bound / rho,
+            },
+            _ => cause,
+        }
     }
 
     /// Fixed steps on the grid `t0 + k * step`, each shortened to end on a sample time
