@@ -165,10 +165,7 @@ pub fn record<M: Model>(model: &M, solver: Solver, times: &[f64]) -> Result<Reco
 /// [`Error::MissingOutputs`] if the model lacks a column; [`Error::Solver`] if the run
 /// fails (including a wall-time limit in the solver's options); [`Error::Io`] if the
 /// directory or the file cannot be written.
-pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Result<Summary, Error>
-where
-    M::Params: 'static,
-{
+pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Result<Summary, Error> {
     let times = sample_times();
     debug_assert_eq!(times.len(), N_ROWS);
     let recorded = record(model, solver, &times)?;
@@ -182,9 +179,29 @@ where
     recorded.results.write_csv(&path)?;
     let write_time = started.elapsed();
     let mut summary = Summary::of(&recorded);
-    if let Some(params) = (model.params() as &dyn core::any::Any).downcast_ref() {
-        summary = summary.with_params(params);
+    if let Some(params) = quick_return_params(model) {
+        summary = summary.with_params(&params);
     }
     summary.file = Some((path, write_time));
     Ok(summary)
+}
+
+/// The parameters of `model` as the quick return's, read by name from its declared
+/// parameters (`None` for a model that lacks one of them).
+fn quick_return_params<M: Model>(model: &M) -> Option<super::QuickReturnParams> {
+    use serde_yaml::{Mapping, Value};
+    let mut values = vec![0.0; M::N_PARAMETER_VALUES];
+    model.parameter_values(&mut values);
+    let mut params = Mapping::new();
+    let mut at = 0;
+    for p in M::PARAMETERS {
+        let numbers = values.get(at..at + p.len)?;
+        at += p.len;
+        let value = match numbers {
+            [one] => Value::from(*one),
+            many => Value::Sequence(many.iter().map(|v| Value::from(*v)).collect()),
+        };
+        params.insert(Value::from(p.name), value);
+    }
+    serde_yaml::from_value(Value::Mapping(params)).ok()
 }

@@ -637,4 +637,39 @@ mod tests {
         let (none, zero) = crank_period(&t[..100], &angle[..100]);
         assert_eq!((none, zero), (None, 0));
     }
+
+    #[test]
+    fn the_rigid_reference_is_the_runs_own() {
+        let defaults = QuickReturnParams::default();
+        let RigidReference::Cycle {
+            stroke,
+            time_ratio,
+            period,
+        } = RigidReference::of(&defaults)
+        else {
+            panic!("the spec's mechanism has a cycle");
+        };
+        assert!((stroke - 0.7).abs() < 1e-12 && (time_ratio - 2.0).abs() < 1e-12);
+        assert!((period - TAU / 5.0).abs() < 1e-15);
+        // Turning the other way makes the other stroke the slow one.
+        let reversed = QuickReturnParams {
+            w_drive: -2.0,
+            ..QuickReturnParams::default()
+        };
+        let RigidReference::Cycle {
+            time_ratio, period, ..
+        } = RigidReference::of(&reversed)
+        else {
+            panic!("a cycle");
+        };
+        assert!((time_ratio - 0.5).abs() < 1e-12 && (period - TAU / 2.0).abs() < 1e-15);
+        let whitworth = QuickReturnParams {
+            d: 0.1,
+            ..QuickReturnParams::default()
+        };
+        assert!(matches!(
+            RigidReference::of(&whitworth),
+            RigidReference::Undefined(why) if why.contains("not shorter than the pivot distance")
+        ));
+    }
 }
