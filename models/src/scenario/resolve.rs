@@ -892,4 +892,16 @@ mod tests {
         )
         .is_ok());
     }
+
+    #[test]
+    fn text_keys_take_numbers_as_written() {
+        let plan = run_plan(
+            plan_of(
+                "model: oscillator\ndescription: 2024\n",
+                &Overrides::default(),
+            )
+            .unwrap(),
+        );
+        assert_eq!(plan.title, "2024");
+    }
 }

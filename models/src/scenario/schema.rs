@@ -251,11 +251,26 @@ fn value(
     places: &Places<'_>,
     d: &mut Diagnostics,
 ) -> bool {
+    // YAML reads `description: 2024` as a number; as text it is what was written.
+    let as_text = |v: &mut Value| {
+        if let Value::Number(_) | Value::Bool(_) = v {
+            let text = serde_yaml::to_string(v).unwrap_or_default();
+            *v = Value::String(text.trim_end().to_owned());
+        }
+    };
     match kind {
-        Kind::Text => leaf::<String>(value, path, places, d),
+        Kind::Text => {
+            as_text(value);
+            leaf::<String>(value, path, places, d)
+        }
+        Kind::Texts => {
+            if let Value::Sequence(items) = value {
+                items.iter_mut().for_each(as_text);
+            }
+            leaf::<Vec<String>>(value, path, places, d)
+        }
         Kind::Number => leaf::<f64>(value, path, places, d),
         Kind::Count => leaf::<usize>(value, path, places, d),
-        Kind::Texts => leaf::<Vec<String>>(value, path, places, d),
         Kind::Numbers => leaf::<Vec<f64>>(value, path, places, d),
         Kind::Mapping => leaf::<Mapping>(value, path, places, d),
         Kind::Any => true,
