@@ -64,6 +64,27 @@ pub enum SolverError {
         /// What is wrong with it.
         problem: SampleTimeProblem,
     },
+    /// The run was asked for no sample time at all, so it would record nothing.
+    NoSampleTimes,
+    /// A fixed-step explicit method failed (non-finite values, a vanishing step) on a
+    /// model that is stiff for its step: at the start, `step × spectral_radius` lies
+    /// beyond the method's stability limit, so the integration blows up. A stiff
+    /// solver (radau5, rodas4) suits the model; an explicit one needs a step below
+    /// `stable_step`.
+    #[cfg(feature = "std")]
+    ProbablyStiff {
+        /// The failure itself.
+        cause: Box<SolverError>,
+        /// The method's name.
+        method: &'static str,
+        /// The step it took, s.
+        step: f64,
+        /// The estimated magnitude of the largest eigenvalue of the model's Jacobian at
+        /// the start, 1/s ([`stiffness::spectral_radius`](crate::solver::stiffness::spectral_radius)).
+        spectral_radius: f64,
+        /// The largest step at which the method is stable on that eigenvalue, s.
+        stable_step: f64,
+    },
     /// The initial state does not have one value per state of the model.
     StateLengthMismatch {
         /// The model's name.
@@ -226,6 +247,25 @@ impl fmt::Display for SolverError {
             SolverError::NonFiniteStartTime { t0 } => {
                 write!(f, "the start time {} is not a finite number", Num(*t0))
             }
+            #[cfg(feature = "std")]
+            SolverError::ProbablyStiff {
+                cause,
+                method,
+                step,
+                spectral_radius,
+                stable_step,
+            } => write!(
+                f,
+                "{cause}. The model is probably stiff: its Jacobian at the start has an \
+                 eigenvalue of magnitude ~{spectral_radius:.2e} 1/s (estimated), on which \
+                 {method} is stable only with steps below ~{stable_step:.2e} s (the step was \
+                 {} s); use a stiff solver, radau5 or rodas4",
+                Num(*step),
+            ),
+            SolverError::NoSampleTimes => f.write_str(
+                "no sample times: a run records at least one sample (ask for n >= 1, or a \
+                 non-empty list)",
+            ),
             SolverError::InvalidSampleTimes { index, t, problem } => {
                 write!(f, "sample time #{index} ({}) ", Num(*t))?;
                 match problem {

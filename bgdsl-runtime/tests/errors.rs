@@ -306,3 +306,128 @@ fn a_recorder_can_stop_every_kind_of_run_keeping_what_it_recorded() {
         assert_eq!(recorder.times, [0.0, 0.1, 0.2, 0.3], "{name}");
     }
 }
+
+/// A run asked for no sample used to return Ok with an empty trajectory.
+#[test]
+fn a_run_without_sample_times_is_an_error_for_every_solver() {
+    for name in ["rk4", "dopri5", "dopri5-fixed", "radau5", "rodas4"] {
+        let solver = Solver::from_name(name).expect("a known solver");
+        assert_eq!(
+            bgdsl_runtime::simulate(&Oscillator, solver, 0.0, 1.0, 0).err(),
+            Some(SolverError::NoSampleTimes),
+            "{name}"
+        );
+        let mut sim = Simulation::new(&Oscillator, solver).expect("valid options");
+        let mut traj = Trajectory::for_model::<Oscillator>(2);
+        assert_eq!(
+            sim.run(0.0, &[1.0, 0.0], &[], &mut traj).err(),
+            Some(SolverError::NoSampleTimes),
+            "{name}"
+        );
+        assert_eq!(traj.len(), 0, "{name}");
+        assert_eq!(sim.stats().steps(), 0, "{name}: no step was taken");
+    }
+    assert!(SolverError::NoSampleTimes
+        .to_string()
+        .starts_with("no sample times"));
+}
+
+#[test]
+fn samples_out_of_order_are_refused_before_any_step() {
+    let mut sim = Simulation::new(&Oscillator, Solver::dopri5()).expect("valid options");
+    let mut traj = Trajectory::for_model::<Oscillator>(3);
+    let err = sim
+        .run(0.0, &[1.0, 0.0], &[0.0, 0.5, 0.2], &mut traj)
+        .unwrap_err();
+    assert_eq!(
+        err,
+        SolverError::InvalidSampleTimes {
+            index: 2,
+            t: 0.2,
+            problem: bgdsl_runtime::SampleTimeProblem::Decreasing { previous: 0.5 },
+        }
+    );
+    assert_eq!(traj.len(), 0);
+    assert_eq!(sim.stats().steps(), 0);
+}
+
+/// `x' = −1000 (x − cos t)`: a stiff decay (eigenvalue −1000) onto a slow curve.
+struct StiffDecay;
+
+impl Model for StiffDecay {
+    type Params = ();
+    const NAME: &'static str = "stiff_decay";
+    const STATE_NAMES: &'static [&'static str] = &["x", "y"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[0.0, 1.0]);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        dx[0] = T::from_f64(-1000.0) * (x[0] - T::from_f64(t.cos()));
+        dx[1] = T::from_f64(-0.5) * x[1];
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
+/// An explicit method that blew up on a stiff model said only "evaluated to -inf":
+/// now it says the model is probably stiff, how stiff, what step would be stable and
+/// which solvers suit it.
+#[test]
+fn a_fixed_step_blow_up_on_a_stiff_model_says_so() {
+    for (solver, bound) in [
+        (Solver::rk4(0.01), 2.785),
+        (
+            Solver::DormandPrinceFixed(FixedStep {
+                step: 0.01,
+                ..Default::default()
+            }),
+            3.307,
+        ),
+    ] {
+        let name = solver.name();
+        let err = bgdsl_runtime::simulate(&StiffDecay, solver, 0.0, 10.0, 11).unwrap_err();
+        let SolverError::ProbablyStiff {
+            cause,
+            method,
+            spectral_radius,
+            stable_step,
+            ..
+        } = &err
+        else {
+            panic!("{name}: {err}");
+        };
+        assert!(
+            matches!(
+                **cause,
+                SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
+            ),
+            "{name}: {cause}"
+        );
+        assert_eq!(*method, name);
+        assert!((spectral_radius - 1000.0).abs() < 1e-3, "{spectral_radius}");
+        assert!((stable_step - bound / 1000.0).abs() < 1e-9, "{stable_step}");
+        let text = err.to_string();
+        assert!(
+            text.contains("The model is probably stiff") && text.contains("radau5 or rodas4"),
+            "{text}"
+        );
+    }
+    // The same step on a model that is not stiff, failing for another reason, keeps
+    // its own error.
+    let err = bgdsl_runtime::simulate(&Expiring, Solver::rk4(0.1), 0.0, 2.0, 21).unwrap_err();
+    assert!(matches!(err, SolverError::NonFiniteState { .. }), "{err}");
+}
+
+#[test]
+fn the_spectral_radius_estimate_finds_the_largest_eigenvalue() {
+    use bgdsl_runtime::solver::stiffness::spectral_radius;
+    let rho = spectral_radius(&StiffDecay, 0.0, &[0.3, 1.0]).unwrap();
+    assert!((rho - 1000.0).abs() < 1e-3, "{rho}");
+    // The harmonic oscillator's eigenvalues are ±i.
+    let rho = spectral_radius(&Oscillator, 0.0, &[1.0, 0.0]).unwrap();
+    assert!((rho - 1.0).abs() < 1e-6, "{rho}");
+    assert_eq!(spectral_radius(&Expiring, 0.0, &[0.0, 0.0]), Some(0.0));
+}

@@ -139,13 +139,15 @@ fn uniform_runs_match_explicit_sample_lists() {
     assert!((traj.value(20, "y").unwrap() - exact(2.0)).abs() < 1e-6);
 }
 
+/// A run asked for no sample is an error (it used to be an empty success), and does
+/// no work.
 #[test]
-fn no_sample_times_means_no_work() {
+fn no_sample_times_is_an_error_and_no_work() {
     for solver in all_solvers() {
         let mut sim = Simulation::new(&Forced, solver).unwrap();
-        let stats = sim.run(0.0, &[1.0], &[], &mut ()).unwrap();
-        assert_eq!(stats.steps(), 0);
-        assert_eq!(sim.state(), &[1.0]);
+        let err = sim.run(0.0, &[1.0], &[], &mut ()).unwrap_err();
+        assert_eq!(err, bgdsl_runtime::SolverError::NoSampleTimes);
+        assert_eq!(sim.stats().steps(), 0);
     }
 }
 

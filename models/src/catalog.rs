@@ -107,7 +107,9 @@ use serde_yaml::Mapping;
 pub use checks::{Checks, Problem};
 pub use columns::{resolve_columns, Column};
 pub use figures::figure_ids;
-pub use params::{describe_value, format_value, parse_value, set_parameter};
+pub use params::{
+    describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
+};
 pub use physics::Catalogued;
 pub use run::{
     create_dir as create_output_dir, Observer, Outcome, Plots, RunError, RunPlan, Silent,
@@ -250,7 +252,7 @@ pub static MODELS: &[Entry] = &[
     Entry {
         name: "quick_return",
         description: "the quick return mechanism of Vaz & Thommen (2010): five links in 3-D, \
-                      compliant joints, driven at 5 rad/s",
+                      compliant joints, the crank driven at a constant speed",
         model: &Adapter::<QuickReturn>(PhantomData),
         results: ResultsKind::QuickReturn,
         t_end: 5.0,
@@ -352,6 +354,11 @@ pub fn find(name: &str) -> Result<&'static Entry, UnknownModel> {
         .ok_or_else(|| UnknownModel {
             name: name.to_owned(),
         })
+}
+
+/// The summary's last line: where the run's page is, `report         out/x/index.html`.
+pub(crate) fn report_line(index: &std::path::Path) -> String {
+    format!("report         {}\n", index.display())
 }
 
 #[cfg(test)]

@@ -36,7 +36,7 @@ bond_graph! {
         param load_friction = 1.0e-4 in "N·m·s/rad";
 
         /// supply voltage, from the controller
-        input voltage = 0.0 in "V";
+        input voltage = 6.0 in "V";
         /// load torque opposing the rotation, the disturbance
         input load_torque = 0.0 in "N·m";
 

@@ -52,7 +52,9 @@ bond_graph! {
 
         push -> v -> { mass, spring, damper };
 
-        init spring.q = 0.01;
+        // Released 4 cm beyond its equilibrium force / k (1 cm), so that the default run
+        // shows the damped oscillation.
+        init spring.q = 0.05;
         /// Position of the mass (spring extension), m.
         output x = spring.q in "m";
         /// Velocity of the mass, m/s.

@@ -92,6 +92,27 @@ impl Default for RigidParams {
 }
 
 impl RigidParams {
+    /// The rigid mechanism with the links, pivot distance, gravity and slide frictions
+    /// of a run of the compliant model.
+    pub fn of_model(p: &crate::quick_return::QuickReturnParams) -> Self {
+        RigidParams {
+            m1: p.m1,
+            m2: p.m2,
+            m3: p.m3,
+            m4: p.m4,
+            m5: p.m5,
+            l1: p.l1,
+            l2: p.l2,
+            l3: p.l3,
+            l4: p.l4,
+            l5: p.l5,
+            d: p.d,
+            g: p.g,
+            R3C: p.R3C[0],
+            R5C: p.R5C[0],
+        }
+    }
+
     /// The masses, link by link.
     pub fn masses(&self) -> [f64; 5] {
         [self.m1, self.m2, self.m3, self.m4, self.m5]
@@ -315,13 +336,77 @@ pub struct QuickReturnCycle {
 
 /// Finds the rocker's extremes (the crank angles where `dφ/dθ = 0`) by bisection on
 /// the exact derivative, and derives the quick-return cycle from them.
+///
+/// # Panics
+///
+/// If the geometry has no quick-return cycle ([`try_quick_return_cycle`] says why).
 pub fn quick_return_cycle(p: &RigidParams) -> QuickReturnCycle {
-    let rocker_rate =
-        |theta: f64| Kinematics::new(Jet::time_series(theta, 1.0, 0.0), p).angle[ROCKER].rate();
+    try_quick_return_cycle(p).unwrap_or_else(|why| panic!("no quick-return cycle: {why}"))
+}
+
+/// Why a geometry has no quick-return cycle of the rigid mechanism.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoCycle {
+    /// The crank (`l1[0]`) is not shorter than the pivot distance `d` (or one of them is
+    /// not positive): the rocker turns full circle or the pin passes through O3, so it
+    /// has no two extremes.
+    CrankTooLong {
+        /// The crank radius `l1[0]`, m.
+        crank: f64,
+        /// The pivot distance `d`, m.
+        d: f64,
+    },
+    /// The connecting rod (`l4[0]`) cannot reach the guide (y = 0) from the rocker's tip
+    /// somewhere in the turn.
+    RodTooShort {
+        /// The rod's length `l4[0]`, m.
+        rod: f64,
+        /// The largest height of the rocker's tip above (or below) the guide, m.
+        tip_height: f64,
+    },
+}
+
+impl core::fmt::Display for NoCycle {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            NoCycle::CrankTooLong { crank, d } => write!(
+                f,
+                "the crank (l1 = {crank} m) is not shorter than the pivot distance d = {d} m, \
+                 so the rocker does not swing between two extremes"
+            ),
+            NoCycle::RodTooShort { rod, tip_height } => write!(
+                f,
+                "the connecting rod (l4 = {rod} m) cannot reach the guide from the rocker's \
+                 tip, {tip_height} m away from it"
+            ),
+        }
+    }
+}
+
+/// The quick-return cycle of the rigid mechanism, or why its geometry has none (see
+/// [`quick_return_cycle`]).
+///
+/// # Errors
+///
+/// [`NoCycle`]: the crank is not shorter than `d`, or the rod cannot reach the guide.
+pub fn try_quick_return_cycle(p: &RigidParams) -> Result<QuickReturnCycle, NoCycle> {
+    let (crank, d) = (p.l1[0], p.d);
+    if !(crank > 0.0 && d > crank) {
+        return Err(NoCycle::CrankTooLong { crank, d });
+    }
     const GRID: usize = 720;
     let at = |i: usize| -core::f64::consts::PI + TAU * i as f64 / GRID as f64;
+    let state = |theta: f64| Kinematics::new(Jet::time_series(theta, 1.0, 0.0), p);
+    // The tip is highest with the rocker upright (θ = π/2) and lowest at an extreme, so
+    // the grid and the extremes below cover its range.
+    let rod = p.l4[0];
+    let reaches = |k: &Kinematics| k.tip[1].value().abs() <= rod * (1.0 + 1e-12);
+    let mut tip_height = 0.0f64;
+    let rocker_rate = |theta: f64| state(theta).angle[ROCKER].rate();
     let mut roots = Vec::new();
     for i in 0..GRID {
+        let k = state(at(i));
+        tip_height = tip_height.max(k.tip[1].value().abs());
         let (mut lo, mut hi) = (at(i), at(i + 1));
         let (f_lo, f_hi) = (rocker_rate(lo), rocker_rate(hi));
         if f_lo == 0.0 {
@@ -341,13 +426,17 @@ pub fn quick_return_cycle(p: &RigidParams) -> QuickReturnCycle {
         }
         roots.push(0.5 * (lo + hi));
     }
+    let upright = state(core::f64::consts::FRAC_PI_2);
+    tip_height = tip_height.max(upright.tip[1].value().abs());
     assert_eq!(
         roots.len(),
         2,
-        "the rocker has two extremes, found {roots:?}"
+        "a crank shorter than d gives the rocker two extremes, found {roots:?}"
     );
-    let state = |theta: f64| Kinematics::new(Jet::time_series(theta, 1.0, 0.0), p);
     let (k0, k1) = (state(roots[0]), state(roots[1]));
+    if ![&k0, &k1, &upright].into_iter().all(reaches) || tip_height > rod * (1.0 + 1e-12) {
+        return Err(NoCycle::RodTooShort { rod, tip_height });
+    }
     let (phi0, phi1) = (k0.angle[ROCKER].value(), k1.angle[ROCKER].value());
     let (right, left, k_right, k_left) = if phi0 < phi1 {
         (roots[0], roots[1], k0, k1)
@@ -356,7 +445,7 @@ pub fn quick_return_cycle(p: &RigidParams) -> QuickReturnCycle {
     };
     let forward_angle = (left - right).rem_euclid(TAU);
     let return_angle = TAU - forward_angle;
-    QuickReturnCycle {
+    Ok(QuickReturnCycle {
         theta_right: right,
         theta_left: left,
         forward_angle,
@@ -364,7 +453,7 @@ pub fn quick_return_cycle(p: &RigidParams) -> QuickReturnCycle {
         time_ratio: forward_angle / return_angle,
         stroke: k_right.o5[0].value() - k_left.o5[0].value(),
         rocker_range: [k_right.angle[ROCKER].value(), k_left.angle[ROCKER].value()],
-    }
+    })
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1012,5 +1101,57 @@ mod tests {
                 assert!(loss > 0.0);
             }
         }
+    }
+
+    /// Any crank shorter than `d` gives the shaper's closed form: the rocker is at an
+    /// extreme when the line O3–A is tangent to the crank circle, at `α = asin(r/d)` from
+    /// the vertical, so the stroke is `2 L3 r/d` and the crank turns `π + 2α` forward and
+    /// `π − 2α` back.
+    #[test]
+    fn cycle_follows_the_geometry() {
+        let p = RigidParams {
+            d: 0.3,
+            ..RigidParams::default()
+        };
+        let cycle = try_quick_return_cycle(&p).unwrap();
+        let alpha = (0.2f64 / 0.3).asin();
+        assert!(
+            close(cycle.stroke, 2.0 * 0.7 * 0.2 / 0.3, 1e-12),
+            "{cycle:?}"
+        );
+        assert!(
+            close(
+                cycle.time_ratio,
+                (PI + 2.0 * alpha) / (PI - 2.0 * alpha),
+                1e-12
+            ),
+            "{cycle:?}"
+        );
+    }
+
+    #[test]
+    fn says_when_there_is_no_cycle() {
+        let whitworth = RigidParams {
+            d: 0.15,
+            ..RigidParams::default()
+        };
+        assert_eq!(
+            try_quick_return_cycle(&whitworth),
+            Err(NoCycle::CrankTooLong {
+                crank: 0.2,
+                d: 0.15
+            })
+        );
+        let short_rod = RigidParams {
+            l4: [0.2, 0.01, 0.01],
+            ..RigidParams::default()
+        };
+        let Err(NoCycle::RodTooShort { rod, tip_height }) = try_quick_return_cycle(&short_rod)
+        else {
+            panic!("a 0.2 m rod reaches the guide");
+        };
+        // The tip is highest with the rocker upright: L3 − d above the guide.
+        assert_eq!(rod, 0.2);
+        assert!(close(tip_height, 0.7 - 0.4, 1e-12), "{tip_height}");
     }
 }

@@ -78,7 +78,7 @@ fn params_shows_defaults_units_and_docs() {
     let states = run(&["params", "oscillator", "--states", "--outputs"]);
     assert_success(&states);
     assert!(
-        states.stdout.contains("spring.q  0.01"),
+        states.stdout.contains("spring.q  0.05"),
         "{}",
         states.stdout
     );

@@ -59,7 +59,12 @@ fn a_model_run_records_its_overrides_parameters_state_and_solver() {
     let results = dir.join("results");
     assert_eq!(
         files(&results),
-        ["index.html", "quick_return.csv", "quick_return.units.csv", "run.yaml"]
+        [
+            "index.html",
+            "quick_return.csv",
+            "quick_return.units.csv",
+            "run.yaml"
+        ]
     );
     let r = record(&results);
 
@@ -453,7 +458,12 @@ fn out_is_obeyed_and_scenarios_are_named_after_their_file() {
     assert_eq!(files(&dir.join("out")), ["soft", "soft-c=3"]);
     assert_eq!(
         files(&dir.join("out/soft-c=3")),
-        ["index.html", "oscillator.csv", "oscillator.units.csv", "run.yaml"]
+        [
+            "index.html",
+            "oscillator.csv",
+            "oscillator.units.csv",
+            "run.yaml"
+        ]
     );
 }
 
@@ -465,7 +475,12 @@ fn the_default_run_still_writes_the_specs_folder() {
     assert_eq!(files(&dir.join("out")), ["quick_return"]);
     assert_eq!(
         files(&dir.join("out/quick_return")),
-        ["index.html", "quick_return.csv", "quick_return.units.csv", "run.yaml"]
+        [
+            "index.html",
+            "quick_return.csv",
+            "quick_return.units.csv",
+            "run.yaml"
+        ]
     );
     assert!(
         out.stdout.contains("overrides      none\n"),

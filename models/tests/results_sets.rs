@@ -88,7 +88,13 @@ fn success_replaces_the_whole_set() {
     assert_code(&again, 0);
     assert_eq!(
         names(&out),
-        [".models-results", "index.html", "quick_return.csv", "quick_return.units.csv", "run.yaml"]
+        [
+            ".models-results",
+            "index.html",
+            "quick_return.csv",
+            "quick_return.units.csv",
+            "run.yaml"
+        ]
     );
     assert_eq!(names(&dir), ["out"], "nothing temporary beside it");
     assert!(again.stdout.contains(&format!(

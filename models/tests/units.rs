@@ -36,7 +36,7 @@ fn params_shows_the_units_and_docs_of_states_and_outputs() {
     assert_success(&out);
     let text = &out.stdout;
     // name, initial value, unit, meaning
-    assert_eq!(row(text, "spring.q")[..3], ["spring.q", "0.01", "m"]);
+    assert_eq!(row(text, "spring.q")[..3], ["spring.q", "0.05", "m"]);
     assert_eq!(row(text, "mass.p")[..3], ["mass.p", "0", "kg·m/s"]);
     // name, unit, meaning
     assert_eq!(
@@ -117,7 +117,7 @@ fn the_quick_return_keeps_its_spec_header_and_lists_units_aside() {
     for (line, expected) in units
         .lines()
         .skip(1)
-        .zip(["t,s,time", "crank_angle,rad,Crank angle about Z0"])
+        .zip(["t,s,time", "crank_angle,rad,Crank angle about Z0: atan2 of R1 plus the crank's whole turns (unwrapped)"])
     {
         assert_eq!(line, expected);
     }

@@ -40,7 +40,7 @@ mod should {
     use super::*;
 
     /// Mass-spring-damper released from rest with no force (the declared x(0) =
-    /// 0.01 m) and, separately, a step force from rest at x = 0, against the closed
+    /// 0.05 m) and, separately, a step force from rest at x = 0, against the closed
     /// form of the underdamped oscillator, over 5 s (8 periods). Defaults: m = 1 kg,
     /// k = 100 N/m, c = 0.4 N·s/m, so ω0 = 10 rad/s, α = c/2m = 0.2 1/s.
     #[test]

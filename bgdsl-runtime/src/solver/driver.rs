@@ -8,6 +8,7 @@ use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
 use super::stats::Stats;
 use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
+use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
 use crate::model::Model;
@@ -153,8 +154,12 @@ impl Samples<'_> {
         }
     }
 
-    /// Checks that the sample times are finite, `>= t0` and non-decreasing.
+    /// Checks that there is a sample time, and that the sample times are finite,
+    /// `>= t0` and non-decreasing.
     fn validate(&self, t0: f64) -> Result<(), SolverError> {
+        if self.len() == 0 {
+            return Err(SolverError::NoSampleTimes);
+        }
         let mut previous = t0;
         for index in 0..self.len() {
             let t = self.get(index);
@@ -269,8 +274,9 @@ impl<'m, M: Model> Simulation<'m, M> {
         self.stats
     }
 
-    /// Integrates from `(t0, x0)` through `sample_times` (finite, `>= t0`,
-    /// non-decreasing), calling `recorder` at every sample time with the time, the state
+    /// Integrates from `(t0, x0)` through `sample_times` (at least one, finite, `>= t0`,
+    /// non-decreasing; else [`SolverError::NoSampleTimes`] or
+    /// [`SolverError::InvalidSampleTimes`] before any step), calling `recorder` at every sample time with the time, the state
     /// and the outputs ([`Model::outputs`]). Sample times equal to `t0` record `x0`.
     ///
     /// On error the recorder holds the samples before the failure and
@@ -325,13 +331,38 @@ impl<'m, M: Model> Simulation<'m, M> {
             k.restart();
         }
         match self.solver {
-            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
-                self.run_fixed(o, samples, recorder)?
-            }
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => self
+                .run_fixed(o, samples, recorder)
+                .map_err(|cause| self.diagnose_fixed(cause, o.step, t0, x0))?,
             Solver::DormandPrince(o) => self.run_adaptive(&o, samples, recorder)?,
             Solver::Radau5(_) | Solver::Rodas4(_) => self.run_stiff(samples, recorder)?,
         }
         Ok(self.stats)
+    }
+
+    /// A fixed-step failure that stiffness explains (non-finite values or a vanishing
+    /// step, with `step` beyond the method's stability limit on the largest eigenvalue of
+    /// the Jacobian at the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`];
+    /// any other is returned as it is.
+    fn diagnose_fixed(&self, cause: SolverError, step: f64, t0: f64, x0: &[f64]) -> SolverError {
+        let explicable = matches!(
+            cause,
+            SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
+        );
+        let bound = match self.solver {
+            Solver::Rk4(_) => stiffness::RK4_STABILITY,
+            _ => stiffness::DOPRI5_STABILITY,
+        };
+        match stiffness::spectral_radius(self.model.get(), t0, x0) {
+            Some(rho) if explicable && rho * step > bound => SolverError::ProbablyStiff {
+                cause: Box::new(cause),
+                method: self.solver.name(),
+                step,
+                spectral_radius: rho,
+                stable_step: bound / rho,
+            },
+            _ => cause,
+        }
     }
 
     /// Fixed steps on the grid `t0 + k * step`, each shortened to end on a sample time
@@ -467,7 +498,8 @@ impl<'m, M: Model> Simulation<'m, M> {
 
 /// Simulates `model` from its declared initial state at `t0` to `t_end` with `solver`,
 /// recording `n` evenly spaced samples ([`sample_times_uniform`]) into a
-/// [`Trajectory`].
+/// [`Trajectory`]. `n = 0` is [`SolverError::NoSampleTimes`] (a run that records
+/// nothing is a mistake, not an empty success).
 pub fn simulate<M: Model>(
     model: &M,
     solver: Solver,

@@ -31,6 +31,8 @@ mod options;
 mod stats;
 #[cfg(feature = "std")]
 mod stiff;
+#[cfg(feature = "std")]
+pub mod stiffness;
 pub(crate) mod tableau;
 
 #[cfg(feature = "std")]

@@ -56,14 +56,32 @@ where
     fn check(&self, params: &Mapping) -> Vec<Problem> {
         let mut checks = Checks::new(M::PARAMETERS);
         checks.finite(params);
-        if checks.count() > 0 {
-            return checks.into_problems();
+        // The model's own checks still run, with each non-finite parameter at its
+        // default; what they find about those parameters is left out (already said).
+        let non_finite: Vec<String> = checks
+            .problems()
+            .iter()
+            .flat_map(|p| p.keys.clone())
+            .collect();
+        let mut usable = params.clone();
+        let defaults = self.default_parameters();
+        for name in &non_finite {
+            if let Some(default) = defaults.get(name.as_str()) {
+                usable.insert(Value::String(name.clone()), default.clone());
+            }
         }
-        match params_from::<M::Params>(params) {
+        let found = checks.count();
+        match params_from::<M::Params>(&usable) {
             Ok(p) => M::check_params(&p, &mut checks),
             Err(e) => checks.problem(&[], e.to_string()),
         }
-        checks.into_problems()
+        let mut problems = checks.into_problems();
+        let mut index = 0;
+        problems.retain(|p| {
+            index += 1;
+            index <= found || !p.keys.iter().any(|k| non_finite.contains(k))
+        });
+        problems
     }
 
     fn initial_state(&self, params: &Mapping) -> Result<Vec<f64>, RunError> {

@@ -56,6 +56,11 @@ impl Checks {
         self.problems.len()
     }
 
+    /// The problems found so far.
+    pub fn problems(&self) -> &[Problem] {
+        &self.problems
+    }
+
     /// The problems found.
     pub fn into_problems(self) -> Vec<Problem> {
         self.problems

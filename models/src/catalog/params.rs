@@ -33,6 +33,12 @@ pub fn set_parameter(
             ),
         ));
     };
+    if let Some(text) = overflowing_number(&value) {
+        return Err(Problem::new(
+            &[name],
+            format!("parameter `{name}`: {}", overflow_message(text)),
+        ));
+    }
     if let Some(expected) = shape_mismatch(default, &value) {
         let unit = entry
             .model
@@ -53,6 +59,36 @@ pub fn set_parameter(
     }
     params.insert(key, value);
     Ok(())
+}
+
+/// A number written in `value` (or in a list of it) too large for an `f64`: YAML reads
+/// `1e400` as a string, since it is no finite number.
+pub fn overflowing_number(value: &Value) -> Option<&str> {
+    match value {
+        Value::String(text) => {
+            let looks_numeric = text
+                .trim()
+                .chars()
+                .all(|c| c.is_ascii_digit() || matches!(c, '+' | '-' | '.' | 'e' | 'E' | '_'));
+            let overflows = text
+                .trim()
+                .replace('_', "")
+                .parse::<f64>()
+                .is_ok_and(f64::is_infinite);
+            (looks_numeric && overflows).then_some(text.as_str())
+        }
+        Value::Sequence(items) => items.iter().find_map(overflowing_number),
+        _ => None,
+    }
+}
+
+/// The message for a number that overflows an `f64`.
+pub fn overflow_message(text: &str) -> String {
+    format!(
+        "the number {} overflows: the largest finite number is about {:e}",
+        text.trim(),
+        f64::MAX
+    )
 }
 
 /// What `value` should have been, when its shape differs from `default`'s.

@@ -418,6 +418,9 @@ where
                 _ => (0.0, 0.0),
             };
             let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
+            if let Ok(params) = params_from::<QuickReturnParams>(&plan.params) {
+                summary = summary.with_params(&params);
+            }
             summary.file = Some((results_paths[0].clone(), write_time));
             summary.failure = failure.clone();
             summary.overrides = Some(provenance::summary_lines(entry, plan, &[]));
@@ -450,10 +453,7 @@ where
             plotting.as_secs_f64() * 1e3
         ));
     }
-    summary.push_str(&format!(
-        "report         {}\n",
-        target.join(INDEX_FILE).display()
-    ));
+    summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
     provenance::write_run(dir, entry, plan, &results_paths, failure.as_deref())?;
     figures::index(dir, &plan.title, &summary, &drawn)?;
     let target = folder.commit(partial)?;

@@ -330,11 +330,7 @@ pub fn run_sweep(
         let _ = writeln!(summary, "  at {}: {message}", coordinates.join(", "));
     }
 
-    let _ = writeln!(
-        summary,
-        "report         {}",
-        target.join(INDEX_FILE).display()
-    );
+    summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
     provenance::write_sweep(
         dir,
         entry,

@@ -6,7 +6,8 @@
 //! models params <model> [--states] [--outputs]
 //!                                         parameters with defaults, units and docs
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
-//!            [--solver NAME] [--rtol X] [--atol X] [--t-end X] [--no-plots] [--yes]
+//!            [--solver NAME] [--rtol X] [--atol X] [--step X] [--max-steps N]
+//!            [--t-start X] [--t-end X] [--interval X] [--no-plots] [--yes]
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -19,6 +20,11 @@
 //! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`; nothing was written |
 //! | 69 | a missing external prerequisite, nothing written: Graphviz's `dot` for `graph --svg`, the FMI library (`libbgdsl_fmi.so`, missing or built from other model code) for `fmu` (69 is `EX_UNAVAILABLE` of `sysexits.h`) |
 //! | 130 | a second signal (SIGINT, SIGTERM or SIGHUP) during a run: the staging folder is removed, `<out>` and `<out>.partial/` are untouched |
+//!
+//! The flags of `run` override the scenario's keys of the same meaning (`--step` and
+//! `--max-steps` its `solver.step` and `solver.max_steps`, `--t-start` and `--t-end` its
+//! `time`, `--interval` its `output.interval` or `output.count`) and are checked by the
+//! same code, with the same messages (placed at the flag).
 //!
 //! Errors go to stderr, one line each (a scenario with several errors gives several
 //! lines, each `file:line:column: message`); summaries go to stdout.
@@ -110,8 +116,8 @@ pub struct RunArgs {
     ///
     /// NAME is the model's name or the scenario file's without its extension.
     /// OVERRIDES lists the command line's overrides as key=value joined by commas: the
-    /// --set parameters sorted by name, then solver, rtol, atol and t_end when given
-    /// (e.g. `models run quick_return --set d=0.3 --set w_drive=4` writes
+    /// --set parameters sorted by name, then solver, rtol, atol, step, t_start, t_end,
+    /// interval and max_steps when given (e.g. `models run quick_return --set d=0.3 --set w_drive=4` writes
     /// out/quick_return-d=0.3,w_drive=4); a list longer than 64 characters, or with
     /// characters other than letters, digits and `._+-=,`, is cut to 40 and followed by
     /// a hash of the whole. --no-plots does not count. Every results folder holds
@@ -131,9 +137,21 @@ pub struct RunArgs {
     /// Absolute tolerance of an adaptive solver, > 0.
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub atol: Option<f64>,
+    /// The start of the time span, s [default: 0, or the scenario's `time.start`].
+    #[arg(long = "t-start", value_name = "X", allow_negative_numbers = true)]
+    pub t_start: Option<f64>,
     /// The end of the time span, s.
     #[arg(long = "t-end", value_name = "X", allow_negative_numbers = true)]
     pub t_end: Option<f64>,
+    /// The step of a fixed-step solver (rk4, dopri5-fixed), s, > 0.
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub step: Option<f64>,
+    /// The solver's step budget, > 0.
+    #[arg(long = "max-steps", value_name = "N")]
+    pub max_steps: Option<usize>,
+    /// Seconds between samples, > 0 (replaces the scenario's `interval` or `count`).
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub interval: Option<f64>,
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,

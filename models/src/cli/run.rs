@@ -27,7 +27,11 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
         solver: args.solver.clone(),
         rtol: args.rtol,
         atol: args.atol,
+        t_start: args.t_start,
         t_end: args.t_end,
+        step: args.step,
+        max_steps: args.max_steps,
+        interval: args.interval,
         no_plots: args.no_plots,
         out: args.out.clone(),
         command_line: std::env::args_os()

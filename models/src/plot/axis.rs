@@ -31,12 +31,16 @@ pub fn nice_ticks(lo: f64, hi: f64, max_count: usize) -> Vec<Tick> {
     let step = nice_step((hi - lo) / max_count.max(1) as f64);
     let first = (lo / step).ceil() as i64;
     let last = (hi / step).floor() as i64;
-    (first..=last)
-        .map(|k| {
-            let value = k as f64 * step;
-            Tick::new(value, format_tick(value, step))
-        })
-        .collect()
+    let mut ticks: Vec<Tick> = Vec::new();
+    for k in first..=last {
+        let value = k as f64 * step;
+        let tick = Tick::new(value, format_tick(value, step));
+        // Two ticks that read the same would say nothing twice.
+        if ticks.last().is_none_or(|t| t.label != tick.label) {
+            ticks.push(tick);
+        }
+    }
+    ticks
 }
 
 /// The smallest of 1, 2, 5 × 10^k not below `raw`.
@@ -71,12 +75,47 @@ pub fn format_tick(value: f64, step: f64) -> String {
         decimals
     };
     if decimals > 6 || value.abs() >= 1e6 {
+        // Enough digits to tell neighbouring ticks apart (an f64 holds 15-16).
         let digits = (step.log10().floor() - value.abs().log10().floor())
             .abs()
-            .min(6.0) as usize;
+            .min(15.0) as usize;
         return format!("{value:.digits$e}");
     }
     format!("{value:.decimals$}")
+}
+
+/// A tick label placed on the picture: its text centred at a pixel position.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedLabel {
+    /// The text.
+    pub text: String,
+    /// The centre of the text, in pixels.
+    pub at: (i32, i32),
+}
+
+/// The labels that can be drawn without two of them overlapping: in order, each kept
+/// unless its box (about `font_size × 0.6` pixels per character wide, `font_size` high,
+/// plus a 2-pixel margin) meets the box of one kept before it. Where axes meet at a
+/// corner of a 3-D box, their end labels land on one another; the first axis's wins,
+/// so no label is ever drawn over another (or twice).
+pub fn without_collisions(labels: Vec<PlacedLabel>, font_size: f64) -> Vec<PlacedLabel> {
+    let half_size = |l: &PlacedLabel| {
+        let chars = l.text.chars().count() as f64;
+        (0.5 * 0.6 * font_size * chars + 2.0, 0.5 * font_size + 2.0)
+    };
+    let mut kept: Vec<PlacedLabel> = Vec::new();
+    for label in labels {
+        let (w, h) = half_size(&label);
+        let collides = kept.iter().any(|k| {
+            let (kw, kh) = half_size(k);
+            f64::from((label.at.0 - k.at.0).abs()) < w + kw
+                && f64::from((label.at.1 - k.at.1).abs()) < h + kh
+        });
+        if !collides {
+            kept.push(label);
+        }
+    }
+    kept
 }
 
 /// The range `[lo, hi]` of the finite values, widened as [`widen`] does. `None` if no
@@ -184,6 +223,35 @@ mod tests {
         assert!(nice_ticks(f64::NAN, 1.0, 5).is_empty());
     }
 
+    /// Far from zero the labels used to stop at 6 digits: 1e12 + 2 and 1e12 + 4 both
+    /// read `1.000000e12`.
+    #[test]
+    fn tick_labels_never_repeat() {
+        for (lo, hi) in [
+            (1e12, 1e12 + 10.0),
+            (-1.0, 1.0),
+            (1e6, 1e6 + 3e-6),
+            (0.0, 1e-300),
+        ] {
+            let ticks = nice_ticks(lo, hi, 5);
+            assert!(ticks.len() >= 2, "{lo}..{hi}: {ticks:?}");
+            let mut labels = labels(&ticks);
+            labels.dedup();
+            assert_eq!(labels.len(), ticks.len(), "{lo}..{hi}: {ticks:?}");
+        }
+        assert_eq!(
+            labels(&nice_ticks(1e12, 1e12 + 10.0, 5)),
+            [
+                "1.000000000000e12",
+                "1.000000000002e12",
+                "1.000000000004e12",
+                "1.000000000006e12",
+                "1.000000000008e12",
+                "1.000000000010e12"
+            ]
+        );
+    }
+
     #[test]
     fn tick_labels_have_the_steps_precision() {
         assert_eq!(format_tick(0.25, 0.25), "0.25");
@@ -207,5 +275,41 @@ mod tests {
         );
         assert_eq!(padded_range([2.0].into_iter(), 0.05), Some((1.8, 2.2)));
         assert_eq!(padded_range([f64::NAN].into_iter(), 0.05), None);
+    }
+
+    fn placed(text: &str, at: (i32, i32)) -> PlacedLabel {
+        PlacedLabel {
+            text: text.to_owned(),
+            at,
+        }
+    }
+
+    /// Fig. 3 drew the vertical axis's "1.0" and the depth axis's "-1.0" at the same
+    /// corner pixel (153, 247), and the x axis's "-1.0" 10 px from the depth axis's
+    /// "1.0".
+    #[test]
+    fn labels_that_collide_are_drawn_once() {
+        let labels = vec![
+            placed("1.0", (153, 247)),
+            placed("0.5", (153, 316)),
+            placed("-1.0", (360, 56)),
+            placed("-1.0", (153, 247)),
+            placed("1.0", (350, 66)),
+            placed("0.5", (301, 83)),
+            placed("0.5", (153, 316)),
+        ];
+        let kept = without_collisions(labels, 14.0);
+        assert_eq!(
+            kept,
+            [
+                placed("1.0", (153, 247)),
+                placed("0.5", (153, 316)),
+                placed("-1.0", (360, 56)),
+                placed("0.5", (301, 83)),
+            ]
+        );
+        // Labels well apart are all kept, whatever they say.
+        let apart: Vec<PlacedLabel> = (0..5).map(|i| placed("-1.0", (0, 40 * i))).collect();
+        assert_eq!(without_collisions(apart.clone(), 14.0), apart);
     }
 }

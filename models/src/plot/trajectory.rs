@@ -9,7 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::axis::{format_tick, padded_range};
+use super::axis::{nice_ticks, padded_range, without_collisions, PlacedLabel};
 use super::file::{write_images, DrawResult, Drawing};
 use super::font::FONT_FAMILY;
 use super::line::{draw_legend, draw_title, legend_width, SeriesStyle, PALETTE, TITLE_SIZE};
@@ -46,6 +46,8 @@ pub struct Trajectory3d {
 
 /// The view: elevation and azimuth of plotters' projection, rad.
 const PITCH: f64 = 0.75;
+/// The tick labels' size, px.
+const TICK_FONT_SIZE: i32 = 14;
 const YAW: f64 = 0.55;
 
 /// Draws `chart` to `path_without_extension` + `.png` and/or `.svg`, atomically, at
@@ -148,6 +150,100 @@ impl Trajectory3d {
         }
     }
 
+    /// The tick labels of the three axes, each along the edge of the box that lies
+    /// furthest out on the picture, set off outwards; a label that would overlap one
+    /// already placed (where two axes' edges meet at a corner) is left out
+    /// ([`without_collisions`]). The vertical axis is labelled first.
+    fn draw_tick_labels<DB: DrawingBackend, X, Y, Z>(
+        &self,
+        chart: &mut ChartContext<'_, DB, Cartesian3d<X, Y, Z>>,
+        ranges: [(f64, f64); 3],
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+        X: Ranged<ValueType = f64>,
+        Y: Ranged<ValueType = f64>,
+        Z: Ranged<ValueType = f64>,
+    {
+        let pixel = |p: (f64, f64, f64)| chart.as_coord_spec().translate(&view(p));
+        let corner = |bits: [usize; 3]| {
+            let pick = |axis: usize| {
+                let (lo, hi) = ranges[axis];
+                if bits[axis] == 0 {
+                    lo
+                } else {
+                    hi
+                }
+            };
+            (pick(0), pick(1), pick(2))
+        };
+        let centre = pixel((
+            0.5 * (ranges[0].0 + ranges[0].1),
+            0.5 * (ranges[1].0 + ranges[1].1),
+            0.5 * (ranges[2].0 + ranges[2].1),
+        ));
+        let mut placed = Vec::new();
+        for axis in [2, 0, 1] {
+            let (lo, hi) = ranges[axis];
+            let others: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
+            // The four edges along `axis`, by the other two axes' ends; the one whose
+            // middle is furthest from the picture's centre is on the outline.
+            let edge = (0..4)
+                .map(|k| {
+                    let mut bits = [0; 3];
+                    bits[others[0]] = k & 1;
+                    bits[others[1]] = k >> 1;
+                    bits
+                })
+                .max_by_key(|bits| {
+                    let (a, b) = (pixel(corner(*bits)), {
+                        let mut far = *bits;
+                        far[axis] = 1;
+                        pixel(corner(far))
+                    });
+                    let mid = ((a.0 + b.0) / 2 - centre.0, (a.1 + b.1) / 2 - centre.1);
+                    mid.0 * mid.0 + mid.1 * mid.1
+                })
+                .unwrap_or([0; 3]);
+            for tick in nice_ticks(lo, hi, 4) {
+                let mut at = corner(edge);
+                match axis {
+                    0 => at.0 = tick.value,
+                    1 => at.1 = tick.value,
+                    _ => at.2 = tick.value,
+                }
+                let p = pixel(at);
+                let out = (f64::from(p.0 - centre.0), f64::from(p.1 - centre.1));
+                let length = out.0.hypot(out.1).max(1.0);
+                let (ux, uy) = (out.0 / length, out.1 / length);
+                // Far enough out that the text's box clears the edge.
+                let size = f64::from(TICK_FONT_SIZE);
+                let half_width = 0.3 * size * tick.label.chars().count() as f64;
+                let offset = 8.0 + ux.abs() * half_width + uy.abs() * 0.5 * size;
+                placed.push(PlacedLabel {
+                    text: tick.label,
+                    at: (
+                        p.0 + (offset * ux).round() as i32,
+                        p.1 + (offset * uy).round() as i32,
+                    ),
+                });
+            }
+        }
+        let style = TextStyle::from((FONT_FAMILY, TICK_FONT_SIZE).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        let area = chart.plotting_area().strip_coord_spec();
+        let (x0, y0) = (area.get_base_pixel().0, area.get_base_pixel().1);
+        for label in without_collisions(placed, f64::from(TICK_FONT_SIZE)) {
+            area.draw(&Text::new(
+                label.text,
+                (label.at.0 - x0, label.at.1 - y0),
+                style.clone(),
+            ))?;
+        }
+        Ok(())
+    }
+
     /// Thin grey axes through the origin (or the nearest point of the box), each named
     /// at its positive end.
     fn draw_axes<DB: DrawingBackend, X, Y, Z>(
@@ -246,14 +342,15 @@ impl Trajectory3d {
             p.scale = 0.85;
             p.into_matrix()
         });
-        let plain = |v: &f64| format_tick(*v, 0.5);
-        let negated = |v: &f64| format_tick(-*v, 0.5);
+        // plotters draws the grid; the tick labels are placed below, so that those
+        // meeting at a corner of the box are not drawn over one another.
+        let blank = |_: &f64| String::new();
         chart
             .configure_axes()
-            .label_style((FONT_FAMILY, 14))
-            .x_formatter(&plain)
-            .y_formatter(&plain)
-            .z_formatter(&negated)
+            .label_style((FONT_FAMILY, TICK_FONT_SIZE))
+            .x_formatter(&blank)
+            .y_formatter(&blank)
+            .z_formatter(&blank)
             .x_labels(5)
             .y_labels(5)
             .z_labels(5)
@@ -261,6 +358,7 @@ impl Trajectory3d {
             .bold_grid_style(BLACK.mix(0.15))
             .max_light_lines(1)
             .draw()?;
+        self.draw_tick_labels(&mut chart, [x, y, z])?;
         self.draw_axes(&mut chart, [x, y, z])?;
         let diagonal = ((x.1 - x.0).powi(2) + (y.1 - y.0).powi(2) + (z.1 - z.0).powi(2)).sqrt();
         for (i, series) in self.series.iter().enumerate() {

@@ -6,7 +6,8 @@
 //!   the scenario file's without its extension (`models run x.yaml` writes `out/x/`);
 //! - `out/<name>-<overrides>` otherwise, the overrides written `key=value` and joined
 //!   by commas: the `--set` parameters sorted by name, each with the value the run
-//!   uses (a vector's numbers joined by `_`), then `solver`, `rtol`, `atol` and `t_end`
+//!   uses (a vector's numbers joined by `_`), then `solver`, `rtol`, `atol`, `step`,
+//!   `t_start`, `t_end`, `interval` and `max_steps`
 //!   when given: `models run quick_return --set w_drive=4 --set d=0.3` writes
 //!   `out/quick_return-d=0.3,w_drive=4/`, and `--solver dopri5 --rtol 1e-8` adds
 //!   `solver=dopri5,rtol=1e-8`;
@@ -57,11 +58,17 @@ pub fn command_line_settings(overrides: &Overrides, params: &Mapping) -> Vec<(St
     for (key, value) in [
         ("rtol", overrides.rtol),
         ("atol", overrides.atol),
+        ("step", overrides.step),
+        ("t_start", overrides.t_start),
         ("t_end", overrides.t_end),
+        ("interval", overrides.interval),
     ] {
         if let Some(v) = value {
             settings.push((key.to_owned(), format_value(&Value::from(v))));
         }
+    }
+    if let Some(n) = overrides.max_steps {
+        settings.push(("max_steps".to_owned(), n.to_string()));
     }
     settings
 }

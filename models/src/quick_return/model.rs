@@ -162,16 +162,16 @@ bond_graph! {
 
         // The results file of the spec, column for column (forces: the named joint's on
         // the named link; a joint pushes its second port with +e, its first with -e).
-        /// The crank angle about Z0, rad: the spec's `atan2(R1[1][0], R1[1][1])`
-        /// unwrapped, starting at `theta0` (π/2). It is exactly `atan2`'s angle plus the
-        /// whole turns that bring it nearest to the angle the crank has turned through:
-        /// the drive's angle `theta0 + w_drive t` less the drive coupling's twist
-        /// `jC.spring.q_z` (a state: the integral of the drive's speed less the
-        /// crank's). So it runs on without jumps through every turn, the same in the
-        /// results file, the figures, a `Stepper` and the FMU. The drive's angle counts
-        /// from t = 0 at the current `w_drive`: a run that starts later, or changes
-        /// `w_drive` part-way (an FMU's tunable parameter), still gets atan2's angle
-        /// plus whole turns, offset by the turns the drive's angle counts there.
+        // The spec's `atan2(R1[1][0], R1[1][1])` unwrapped, starting at `theta0` (π/2):
+        // exactly atan2's angle plus the whole turns that bring it nearest to the angle
+        // the crank has turned through, the drive's angle `theta0 + w_drive t` less the
+        // drive coupling's twist `jC.spring.q_z` (a state: the integral of the drive's
+        // speed less the crank's). So it runs on without jumps through every turn, the
+        // same in the results file, the figures, a `Stepper` and the FMU. The drive's
+        // angle counts from t = 0 at the current `w_drive`: a run that starts later, or
+        // changes `w_drive` part-way (an FMU's tunable parameter), still gets atan2's
+        // angle plus whole turns, offset by the turns the drive's angle counts there.
+        /// Crank angle about Z0: atan2 of R1 plus the crank's whole turns (unwrapped)
         output crank_angle = unwrapped_angle(crank.R.m21.atan2(crank.R.m22),
             theta0 + w_drive * t - jC.spring.q.z) in "rad";
         /// Crank orientation (crank frame to frame 0)

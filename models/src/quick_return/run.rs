@@ -179,6 +179,29 @@ pub fn run_flagship<M: Model>(model: &M, solver: Solver, out_dir: &Path) -> Resu
     recorded.results.write_csv(&path)?;
     let write_time = started.elapsed();
     let mut summary = Summary::of(&recorded);
+    if let Some(params) = quick_return_params(model) {
+        summary = summary.with_params(&params);
+    }
     summary.file = Some((path, write_time));
     Ok(summary)
+}
+
+/// The parameters of `model` as the quick return's, read by name from its declared
+/// parameters (`None` for a model that lacks one of them).
+fn quick_return_params<M: Model>(model: &M) -> Option<super::QuickReturnParams> {
+    use serde_yaml::{Mapping, Value};
+    let mut values = vec![0.0; M::N_PARAMETER_VALUES];
+    model.parameter_values(&mut values);
+    let mut params = Mapping::new();
+    let mut at = 0;
+    for p in M::PARAMETERS {
+        let numbers = values.get(at..at + p.len)?;
+        at += p.len;
+        let value = match numbers {
+            [one] => Value::from(*one),
+            many => Value::Sequence(many.iter().map(|v| Value::from(*v)).collect()),
+        };
+        params.insert(Value::from(p.name), value);
+    }
+    serde_yaml::from_value(Value::Mapping(params)).ok()
 }

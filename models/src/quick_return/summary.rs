@@ -15,18 +15,19 @@
 //!   whose travel from the previous turning point is under 10 % of the stroke (a
 //!   vibration, not a stroke) is dropped together with that previous turning point.
 //! - **Forward stroke**: the slow stroke, from a right turning point to the next left
-//!   one (the slider moving towards −X0; the crank turns 240° for rigid links).
+//!   one (the slider moving towards −X0; the crank turns 240° for rigid links of the
+//!   spec's geometry).
 //!   **Return stroke**: from a left turning point to the next right one (120°).
 //! - **Quick-return time ratio**: the mean duration of the complete forward strokes
 //!   inside the window divided by the mean duration of the complete return strokes
-//!   (exactly 240°/120° = 2 for rigid links at constant crank speed; the compliant
-//!   joints shift the turning points, making it a little under 2).
+//!   (exactly 240°/120° = 2 for rigid links of the spec's geometry at constant crank
+//!   speed; the compliant joints shift the turning points, making it a little under 2).
 //! - **Period**: from the crank angle, the time between its first and last crossing
 //!   (inside the window) of a multiple of 2π divided by the whole turns between them,
 //!   each crossing located by linear interpolation. The crank angle, unlike the
-//!   slider's turning points, increases steadily at about 5 rad/s, so each crossing
+//!   slider's turning points, increases steadily at about `w_drive`, so each crossing
 //!   time is well conditioned and does not depend on the deflections of the joints
-//!   downstream; it is also the period the spec states (that of the crank, 2π/5 s).
+//!   downstream; it is also the period the spec states (that of the crank, 2π/w_drive).
 //!   The period from successive same-side turning points of the slider is reported
 //!   beside it as a check; in periodic motion the two agree.
 //! - **Peak output momentum** `max |p5_x|` during the complete forward and return
@@ -35,8 +36,11 @@
 //! - **Peak joint forces**: `max |F|` (Euclidean norm) of the forces at O1, A2, O3 and O5
 //!   (columns `F_O1_*`, `F_A2_*`, `F_O3_*`, `F_O5_*`), with the time of each peak.
 //!
-//! The [`Summary`] adds the solver, its counters and the wall time; its `Display` prints
-//! a table.
+//! The [`Summary`] adds the solver, its counters and the wall time, and beside the
+//! measurements the values of the rigid mechanism with the run's own parameters
+//! ([`RigidReference`]: the stroke and time ratio of
+//! [`try_quick_return_cycle`](crate::quick_return_rigid::try_quick_return_cycle), the
+//! period `2π/|w_drive|`); its `Display` prints a table.
 
 use core::f64::consts::TAU;
 use core::fmt;
@@ -47,6 +51,8 @@ use bgdsl_runtime::{Solver, Stats};
 
 use super::results::{Results, CRANK_ANGLE, N_COLUMNS};
 use super::run::Recorded;
+use super::QuickReturnParams;
+use crate::quick_return_rigid::{try_quick_return_cycle, RigidParams};
 
 /// The settled part of the run the measurements are taken over, s (both ends included).
 pub const WINDOW: [f64; 2] = [2.5, 5.0];
@@ -300,6 +306,52 @@ fn crank_period(t: &[f64], angle: &[f64]) -> (Option<f64>, usize) {
     }
 }
 
+/// What the rigid-link mechanism with a run's parameters does: the reference the
+/// measurements are printed beside.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RigidReference {
+    /// Not computed: the summary was made without the run's parameters.
+    Unknown,
+    /// The rigid mechanism has no such cycle with these parameters; why.
+    Undefined(String),
+    /// The rigid values.
+    Cycle {
+        /// The output slider's travel between its extremes, m.
+        stroke: f64,
+        /// The slow (forward) stroke's duration over the quick (return) one's at the
+        /// constant crank speed `w_drive`.
+        time_ratio: f64,
+        /// The crank's period `2π/|w_drive|`, s.
+        period: f64,
+    },
+}
+
+impl RigidReference {
+    /// The rigid mechanism's cycle with the links and pivot distance of `p`, driven at
+    /// `p.w_drive`. A crank turning clockwise (`w_drive < 0`) makes the other stroke
+    /// the slow one, so the ratio is inverted.
+    pub fn of(p: &QuickReturnParams) -> Self {
+        if !(p.w_drive.is_finite() && p.w_drive != 0.0) {
+            return RigidReference::Undefined(format!(
+                "the crank is not driven (w_drive = {} rad/s)",
+                p.w_drive
+            ));
+        }
+        match try_quick_return_cycle(&RigidParams::of_model(p)) {
+            Ok(cycle) => RigidReference::Cycle {
+                stroke: cycle.stroke,
+                time_ratio: if p.w_drive > 0.0 {
+                    cycle.time_ratio
+                } else {
+                    1.0 / cycle.time_ratio
+                },
+                period: TAU / p.w_drive.abs(),
+            },
+            Err(why) => RigidReference::Undefined(why.to_string()),
+        }
+    }
+}
+
 /// A finished flagship run: the model, the solver and its counters, the wall time, the
 /// results file and the [`Measured`] quantities. `Display` prints it as a table.
 #[derive(Clone, Debug)]
@@ -327,6 +379,9 @@ pub struct Summary {
     /// [`provenance::summary_lines`](crate::provenance::summary_lines) writes them),
     /// printed after the model's line.
     pub overrides: Option<String>,
+    /// The rigid-link values printed beside the measurements ([`RigidReference::Unknown`]
+    /// until [`Summary::with_params`] gives the run's parameters).
+    pub rigid: RigidReference,
 }
 
 impl Summary {
@@ -353,7 +408,15 @@ impl Summary {
             measured: Measured::of(&recorded.results, window),
             failure: None,
             overrides: None,
+            rigid: RigidReference::Unknown,
         }
+    }
+
+    /// This summary with the rigid-link reference of the run's parameters `p`.
+    #[must_use]
+    pub fn with_params(mut self, p: &QuickReturnParams) -> Self {
+        self.rigid = RigidReference::of(p);
+        self
     }
 }
 
@@ -465,18 +528,30 @@ impl fmt::Display for Summary {
             "rigid links",
             m.samples
         )?;
+        let (stroke, ratio, period) = match &self.rigid {
+            RigidReference::Cycle {
+                stroke,
+                time_ratio,
+                period,
+            } => (
+                format!("{stroke:.5} m"),
+                format!("{time_ratio:.5}"),
+                format!("{period:.5} s"),
+            ),
+            _ => ("n/a".to_owned(), "n/a".to_owned(), "n/a".to_owned()),
+        };
         row(
             f,
             "output-slider stroke",
             format!("{:.5} m", m.stroke),
-            "0.7 m",
+            &stroke,
             format!("r_C5_x from {:.5} to {:.5} m", m.x5_range[0], m.x5_range[1]),
         )?;
         row(
             f,
             "quick-return time ratio",
             Opt(m.time_ratio, 5, ""),
-            "2",
+            &ratio,
             format!(
                 "forward stroke {}, return stroke {}",
                 Opt(m.forward_time, 5, " s"),
@@ -487,7 +562,7 @@ impl fmt::Display for Summary {
             f,
             "period",
             Opt(m.period, 5, " s"),
-            &format!("{:.5} s", TAU / 5.0),
+            &period,
             format!(
                 "crank, over {} turn(s); slider turning points {}",
                 m.period_turns,
@@ -522,6 +597,14 @@ impl fmt::Display for Summary {
                 "",
                 format!("at t = {:.3} s", p.t),
             )?;
+        }
+        match &self.rigid {
+            RigidReference::Cycle { .. } => {}
+            RigidReference::Unknown => writeln!(
+                f,
+                "  (rigid links n/a: the summary was made without the run's parameters)"
+            )?,
+            RigidReference::Undefined(why) => writeln!(f, "  (rigid links n/a: {why})")?,
         }
         Ok(())
     }
@@ -561,5 +644,40 @@ mod tests {
         assert!((period.unwrap() - TAU / 5.0).abs() < 1e-12);
         let (none, zero) = crank_period(&t[..100], &angle[..100]);
         assert_eq!((none, zero), (None, 0));
+    }
+
+    #[test]
+    fn the_rigid_reference_is_the_runs_own() {
+        let defaults = QuickReturnParams::default();
+        let RigidReference::Cycle {
+            stroke,
+            time_ratio,
+            period,
+        } = RigidReference::of(&defaults)
+        else {
+            panic!("the spec's mechanism has a cycle");
+        };
+        assert!((stroke - 0.7).abs() < 1e-12 && (time_ratio - 2.0).abs() < 1e-12);
+        assert!((period - TAU / 5.0).abs() < 1e-15);
+        // Turning the other way makes the other stroke the slow one.
+        let reversed = QuickReturnParams {
+            w_drive: -2.0,
+            ..QuickReturnParams::default()
+        };
+        let RigidReference::Cycle {
+            time_ratio, period, ..
+        } = RigidReference::of(&reversed)
+        else {
+            panic!("a cycle");
+        };
+        assert!((time_ratio - 0.5).abs() < 1e-12 && (period - TAU / 2.0).abs() < 1e-15);
+        let whitworth = QuickReturnParams {
+            d: 0.1,
+            ..QuickReturnParams::default()
+        };
+        assert!(matches!(
+            RigidReference::of(&whitworth),
+            RigidReference::Undefined(why) if why.contains("not shorter than the pivot distance")
+        ));
     }
 }

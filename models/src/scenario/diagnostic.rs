@@ -68,6 +68,20 @@ impl Diagnostics {
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
+
+    /// Puts them in the order a reader meets them: a file's by line and column (those
+    /// without a position at the file's end), then the flags' in the order given, then
+    /// the rest. The sort is stable, so diagnostics at one place keep their order.
+    pub fn sort(&mut self) {
+        self.0.sort_by_key(|d| match &d.origin {
+            Origin::File {
+                position: Some(p), ..
+            } => (0, p.line, p.column),
+            Origin::File { position: None, .. } => (1, 0, 0),
+            Origin::Flag(_) => (2, 0, 0),
+            Origin::Nowhere => (3, 0, 0),
+        });
+    }
 }
 
 impl fmt::Display for Diagnostics {

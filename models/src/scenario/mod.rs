@@ -28,11 +28,11 @@
 //! sweep:                         # optional: run a grid of points instead of one run
 //!   parameters:                  #   one or two scalar parameters
 //!     - name: w_drive
-//!       from: 2.0                #   `from`, `to`, `steps` (values, ends included),
-//!       to: 10.0
+//!       from: 2.0                #   `from` <= `to`, `steps` >= 1 values, ends
+//!       to: 10.0                 #   included (one step: `to` = `from`),
 //!       steps: 17
 //!     # - name: R_C
-//!     #   values: [50, 100, 200] #   or a list of `values`
+//!     #   values: [50, 100, 200] #   or a list of distinct finite `values`
 //!   peaks: [Tc, F_O1]            #   outputs whose peak magnitude each run reports
 //!   window: {from: 4.0, to: 8.0} #   optional: s; default the second half of the span
 //! ```
@@ -56,24 +56,31 @@
 //!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
 //!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its
 //!   components) over the window; plus one chart per peak (unless `plots: none`). A
-//!   sweep writes no per-run results.
+//!   sweep writes no per-run results. A swept parameter cannot also be set (in
+//!   `parameters` or by `--set`): that value would be ignored, so it is an error.
 //!
 //! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
-//! `--rtol`, `--atol`, `--t-end`, and `--no-plots` (`plots: none`). Without `--out`,
+//! `--rtol`, `--atol`, `--step`, `--max-steps`, `--t-start`, `--t-end`, `--interval`
+//! (replacing `interval` or `count`), and `--no-plots` (`plots: none`); each is checked
+//! as its key is. Without `--out`,
 //! the results go to `out/<file name>`, with the command line's overrides added to the
 //! name ([`provenance::folder`](crate::provenance::folder)).
 //!
 //! # Errors
 //!
-//! Everything is checked before anything is written, and every error found is reported,
-//! one per line, as `file:line:column: message`: syntax errors and wrong types (where
-//! serde_yaml places them), unknown keys (with the valid ones listed), unknown
-//! parameter, state, output or figure names (with the valid ones), and values out of
-//! range (placed at their key by [`locate`]; see its limits).
+//! Everything is checked before anything is written, and every error found is reported
+//! in one go, one per line as `file:line:column: message`, sorted by line and column
+//! (then the flags' errors): a syntax error (which stops the reading), every unknown key
+//! (with the valid ones listed) and every value of the wrong type (the entry is then
+//! left out and the rest still checked), unknown parameter, state, output or figure
+//! names (with the valid ones), numbers too large for an `f64` (`1e400` overflows), and
+//! values out of range, each independently of the others (a NaN does not hide a
+//! negative mass). Errors are placed at their key by [`locate`] (see its limits).
 
 mod diagnostic;
 pub mod locate;
 mod resolve;
+mod schema;
 mod solver;
 mod sweep;
 
@@ -117,6 +124,11 @@ pub struct Scenario {
     /// A sweep over one or two parameters.
     #[serde(default)]
     pub sweep: Option<SweepSpec>,
+    /// What was wrong with the file's shape (unknown keys, wrong types), found while
+    /// reading it; the entries at fault were left out. [`resolve`] reports these with
+    /// its own.
+    #[serde(skip)]
+    pub read_errors: Diagnostics,
 }
 
 /// `time:` of a scenario.
@@ -213,8 +225,10 @@ pub struct Loaded {
 ///
 /// # Errors
 ///
-/// One [`Diagnostic`]: the file cannot be read, is not YAML, or does not fit the
-/// schema (wrong type, unknown key, missing `model`), at the place serde_yaml reports.
+/// The file cannot be read or is not YAML (one [`Diagnostic`]), or its `model` is
+/// missing or unusable (with every other shape error of the file). Other shape errors
+/// (unknown keys, wrong types) do not stop the reading: they are kept in
+/// [`Scenario::read_errors`] for [`resolve`] to report with its own.
 pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         let mut d = Diagnostics::default();
@@ -237,11 +251,26 @@ pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
 /// As [`load`].
 pub fn parse(path: PathBuf, text: String) -> Result<Loaded, Diagnostics> {
     let source = Source { path, text };
-    match serde_yaml::from_str::<Scenario>(&source.text) {
-        Ok(scenario) => Ok(Loaded { source, scenario }),
+    let mut d = Diagnostics::default();
+    let mut value = match serde_yaml::from_str::<Value>(&source.text) {
+        Ok(value) => value,
         Err(e) => {
-            let mut d = Diagnostics::default();
             d.push(source.at_error(&e), yaml_message(&e));
+            return Err(d);
+        }
+    };
+    if !schema::check(&mut value, &source, &mut d) {
+        d.sort();
+        return Err(d);
+    }
+    match serde_yaml::from_value::<Scenario>(value) {
+        Ok(mut scenario) => {
+            scenario.read_errors = d;
+            Ok(Loaded { source, scenario })
+        }
+        Err(e) => {
+            d.push(source.at_error(&e), yaml_message(&e));
+            d.sort();
             Err(d)
         }
     }

@@ -10,7 +10,7 @@ use bgdsl_runtime::Solver;
 use serde_yaml::Mapping;
 
 use super::locate::KeyPath;
-use super::solver::solver;
+use super::solver::{pick, solver};
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
@@ -36,8 +36,16 @@ pub struct Overrides {
     pub rtol: Option<f64>,
     /// Absolute tolerance.
     pub atol: Option<f64>,
+    /// The start of the time span, s.
+    pub t_start: Option<f64>,
     /// The end of the time span, s.
     pub t_end: Option<f64>,
+    /// The step of a fixed-step solver, s.
+    pub step: Option<f64>,
+    /// The solver's step budget.
+    pub max_steps: Option<usize>,
+    /// The sampling interval, s.
+    pub interval: Option<f64>,
     /// Draw no figures.
     pub no_plots: bool,
     /// The output directory (default: the rule of
@@ -97,8 +105,26 @@ pub fn resolve(
     overrides: &Overrides,
     name: &str,
 ) -> Result<Plan, Diagnostics> {
+    let mut d = scenario.read_errors.clone();
+    let plan = resolve_into(source, scenario, overrides, name, &mut d);
+    match plan {
+        Some(plan) if d.is_empty() => Ok(plan),
+        _ => {
+            d.sort();
+            Err(d)
+        }
+    }
+}
+
+/// [`resolve`], with the diagnostics pushed into `d` as found.
+fn resolve_into(
+    source: Option<&Source>,
+    scenario: &Scenario,
+    overrides: &Overrides,
+    name: &str,
+    d: &mut Diagnostics,
+) -> Option<Plan> {
     let places = Places { source };
-    let mut d = Diagnostics::default();
     let entry = match catalog::find(&scenario.model) {
         Ok(entry) => entry,
         Err(e) => {
@@ -107,16 +133,19 @@ pub fn resolve(
                 None => Origin::Nowhere,
             };
             d.push(origin, e.to_string());
-            return Err(d);
+            return None;
         }
     };
-    let (params, origins) = parameters(entry, scenario, overrides, &places, &mut d);
-    let initial = initial_conditions(entry, scenario, &places, &mut d);
-    let span = time_span(entry, scenario, overrides, &places, &mut d);
-    let times = span.and_then(|span| sample_times(entry, scenario, span, &places, &mut d));
-    let solver = solver(entry, scenario, overrides, &places, &mut d);
-    let record = record(entry, scenario, &places, &mut d);
-    let plots = plots(entry, scenario, overrides, &places, &mut d);
+    let (params, origins) = parameters(entry, scenario, overrides, &places, d);
+    let initial = initial_conditions(entry, scenario, &places, d);
+    let span = time_span(entry, scenario, overrides, &places, d);
+    let times = span.and_then(|span| sample_times(entry, scenario, overrides, span, &places, d));
+    let solver = solver(entry, scenario, overrides, &places, d);
+    let record = record(entry, scenario, &places, d);
+    let plots = plots(entry, scenario, overrides, &places, d);
+    if scenario.sweep.is_none() {
+        figures_draw_something(entry, &record, &plots, &places, d);
+    }
     let title = scenario
         .description
         .clone()
@@ -127,7 +156,7 @@ pub fn resolve(
     let context = Arc::new(Context {
         command_line: overrides.command_line.clone(),
         scenario: source.cloned(),
-        sampling: sampling(entry, scenario),
+        sampling: sampling(entry, scenario, overrides),
         parameter_origins: origins.clone(),
         started: SystemTime::now(),
     });
@@ -144,20 +173,17 @@ pub fn resolve(
     };
     let job = match (&scenario.sweep, times, solver) {
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
-        (Some(spec), Some(times), Some(solver)) => {
-            let plan = base(times, solver);
-            match sweep(entry, spec, plan, &origins, &places, &mut d) {
+        (Some(spec), Some(times), solver) => {
+            // A rejected solver is reported already; the sweep is checked all the same.
+            let plan = base(times, solver.unwrap_or_else(entry.solver));
+            match sweep(entry, spec, plan, &origins, &places, d) {
                 Some(sweep) if d.is_empty() => Job::Sweep(sweep),
-                _ => return Err(d),
+                _ => return None,
             }
         }
-        _ => return Err(d),
+        _ => return None,
     };
-    if d.is_empty() {
-        Ok(Plan { entry, job })
-    } else {
-        Err(d)
-    }
+    Some(Plan { entry, job })
 }
 
 /// The parameters: defaults, then the scenario's, then `--set`; each checked by name
@@ -171,7 +197,8 @@ fn parameters(
 ) -> (Mapping, BTreeMap<String, Origin>) {
     let mut params = entry.model.default_parameters();
     let mut origins = BTreeMap::new();
-    let before = d.0.len();
+    // Parameters whose setting was rejected (they keep their defaults).
+    let mut rejected: Vec<String> = Vec::new();
     for (key, value) in scenario.parameters.iter().flatten() {
         let Some(name) = key.as_str() else {
             d.push(
@@ -188,7 +215,10 @@ fn parameters(
             Ok(()) => {
                 origins.insert(name.to_owned(), origin);
             }
-            Err(problem) => d.push(origin, problem.message),
+            Err(problem) => {
+                rejected.push(name.to_owned());
+                d.push(origin, problem.message);
+            }
         }
     }
     for setting in &overrides.set {
@@ -202,24 +232,33 @@ fn parameters(
         };
         let name = name.trim();
         match parse_value(text) {
-            Err(e) => d.push(origin, format!("the value is not YAML: {e}")),
+            Err(e) => {
+                rejected.push(name.to_owned());
+                d.push(origin, format!("the value is not YAML: {e}"));
+            }
             Ok(value) => match set_parameter(entry, &mut params, name, value) {
                 Ok(()) => {
                     origins.insert(name.to_owned(), origin);
                 }
-                Err(problem) => d.push(origin, problem.message),
+                Err(problem) => {
+                    rejected.push(name.to_owned());
+                    d.push(origin, problem.message);
+                }
             },
         }
     }
-    if d.0.len() == before {
-        for problem in entry.model.check(&params) {
-            let origin = problem
-                .keys
-                .iter()
-                .find_map(|k| origins.get(k).cloned())
-                .unwrap_or(Origin::Nowhere);
-            d.push(origin, problem.message);
+    // The physical checks run on what was accepted; a problem that involves a rejected
+    // parameter (now at its default) would be about a value nobody asked for.
+    for problem in entry.model.check(&params) {
+        if problem.keys.iter().any(|k| rejected.contains(k)) {
+            continue;
         }
+        let origin = problem
+            .keys
+            .iter()
+            .find_map(|k| origins.get(k).cloned())
+            .unwrap_or(Origin::Nowhere);
+        d.push(origin, problem.message);
     }
     (params, origins)
 }
@@ -287,15 +326,17 @@ fn time_span(
     d: &mut Diagnostics,
 ) -> Option<[f64; 2]> {
     let time = scenario.time.clone().unwrap_or_default();
-    let start = time.start.unwrap_or(0.0);
-    let (end, end_origin) = match (overrides.t_end, time.end) {
-        (Some(t), _) => (t, Origin::Flag(format!("--t-end {t}"))),
-        (None, Some(t)) => (t, places.keys(&["time", "end"])),
-        (None, None) => (entry.t_end, Origin::Nowhere),
-    };
+    let (start, start_origin) = pick(overrides.t_start, time.start, "t-start", || {
+        places.keys(&["time", "start"])
+    })
+    .unwrap_or((0.0, Origin::Nowhere));
+    let (end, end_origin) = pick(overrides.t_end, time.end, "t-end", || {
+        places.keys(&["time", "end"])
+    })
+    .unwrap_or((entry.t_end, Origin::Nowhere));
     if !start.is_finite() {
         d.push(
-            places.keys(&["time", "start"]),
+            start_origin,
             format!("the start time must be a finite number of seconds, found {start}"),
         );
         return None;
@@ -314,11 +355,13 @@ fn time_span(
 }
 
 /// How the scenario asks for the sample times (`count` wins: giving both is an error).
-fn sampling(entry: &Entry, scenario: &Scenario) -> Option<Sampling> {
+fn sampling(entry: &Entry, scenario: &Scenario, overrides: &Overrides) -> Option<Sampling> {
     let output = scenario.output.clone().unwrap_or_default();
-    Some(match output.count {
-        Some(count) => Sampling::Count(count),
-        None => Sampling::Interval(output.interval.unwrap_or(entry.interval)),
+    // `--interval` replaces the file's `count` as well as its `interval`.
+    Some(match (overrides.interval, output.count) {
+        (Some(interval), _) => Sampling::Interval(interval),
+        (None, Some(count)) => Sampling::Count(count),
+        (None, None) => Sampling::Interval(output.interval.unwrap_or(entry.interval)),
     })
 }
 
@@ -328,13 +371,19 @@ fn sampling(entry: &Entry, scenario: &Scenario) -> Option<Sampling> {
 fn sample_times(
     entry: &Entry,
     scenario: &Scenario,
+    overrides: &Overrides,
     [start, end]: [f64; 2],
     places: &Places<'_>,
     d: &mut Diagnostics,
 ) -> Option<Vec<f64>> {
     let output = scenario.output.clone().unwrap_or_default();
     let span = end - start;
-    match (output.interval, output.count) {
+    let interval = pick(overrides.interval, output.interval, "interval", || {
+        places.keys(&["output", "interval"])
+    });
+    // `--interval` replaces the file's `count` as well as its `interval`.
+    let count = output.count.filter(|_| overrides.interval.is_none());
+    match (interval, count) {
         (Some(_), Some(_)) => {
             d.push(
                 places.keys(&["output", "count"]),
@@ -353,8 +402,7 @@ fn sample_times(
             Some(bgdsl_runtime::sample_times_uniform(start, end, count))
         }
         (interval, None) => {
-            let origin = places.keys(&["output", "interval"]);
-            let interval = interval.unwrap_or(entry.interval);
+            let (interval, origin) = interval.unwrap_or((entry.interval, Origin::Nowhere));
             if !(interval.is_finite() && interval > 0.0) {
                 d.push(
                     origin,
@@ -518,6 +566,58 @@ fn plots(
     Plots::Only(names.into_values().collect())
 }
 
+/// Every figure asked for has something to draw: for the models other than the quick
+/// return, a chart is of a recorded output, so one of an output `record` leaves out, or
+/// `plots: all` when `record` names no output, would draw nothing.
+fn figures_draw_something(
+    entry: &Entry,
+    record: &Option<Vec<(String, Column)>>,
+    plots: &Plots,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) {
+    if plots == &Plots::Only(Vec::new()) {
+        d.push(
+            places.keys(&["plots"]),
+            "`plots` lists no figure; write `plots: none` to draw none",
+        );
+    }
+    let (ResultsKind::Trajectory, Some(record)) = (entry.results, record) else {
+        return;
+    };
+    let recorded = |name: &str| record.iter().any(|(n, _)| n == name);
+    let outputs = entry.model.output_names();
+    match plots {
+        Plots::None => {}
+        Plots::All => {
+            if !outputs.iter().any(|o| recorded(o)) {
+                d.push(
+                    places.keys(&["output", "record"]),
+                    format!(
+                        "`record` names no output, so `plots: all` would draw nothing; record \
+                         an output of {} ({}) or set `plots: none`",
+                        entry.name,
+                        outputs.join(", ")
+                    ),
+                );
+            }
+        }
+        Plots::Only(ids) => {
+            for (i, id) in ids.iter().enumerate() {
+                if outputs.contains(&id.as_str()) && !recorded(id) {
+                    d.push(
+                        places.file(&KeyPath::keys(&["plots"]).index(i)),
+                        format!(
+                            "figure `{id}` would draw nothing: `{id}` is not recorded; add \
+                             it to `output.record`"
+                        ),
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -639,5 +739,205 @@ mod tests {
             &Overrides::default()
         )
         .is_ok());
+    }
+
+    fn lines(d: &Diagnostics) -> Vec<String> {
+        d.0.iter().map(ToString::to_string).collect()
+    }
+
+    /// Before, the first unknown key stopped the reading (hiding the second, and every
+    /// value check); a NaN hid the negative mass; the order was that of the checks.
+    #[test]
+    fn reports_every_error_in_one_go_in_line_order() {
+        let text = "model: quick_return\n\
+                    output:\n  record: [Tc]\n  every: 2\n\
+                    solver:\n  rtol: 0.5\n  tolerance: 1e-6\n\
+                    time:\n  end: soon\n\
+                    parameters:\n  m1: .nan\n  m2: -1\n  g: 1e400\n\
+                    colour: red\n";
+        let d = plan_of(text, &Overrides::default()).unwrap_err();
+        let lines = lines(&d);
+        let expected = [
+            "s.yaml:4:3: output: unknown field `every`, expected one of `interval`, `count`, `record`",
+            "s.yaml:6:3: rtol must be in [1e-14, 0.1], found 0.5",
+            "s.yaml:7:3: solver: unknown field `tolerance`, expected one of `method`",
+            "s.yaml:9:3: time.end: invalid type: string \"soon\", expected f64",
+            "s.yaml:11:3: parameter `m1` (crank mass (Table 1), kg) must be finite, found NaN",
+            "s.yaml:12:3: parameter `m2` (",
+            "s.yaml:13:3: parameter `g`: the number 1e400 overflows",
+            "s.yaml:14:1: unknown field `colour`, expected one of `model`",
+        ];
+        assert_eq!(lines.len(), expected.len(), "{lines:#?}");
+        for (line, start) in lines.iter().zip(expected) {
+            assert!(
+                line.starts_with(start),
+                "{line:?} should start with {start:?}"
+            );
+        }
+        assert!(lines[5].contains("must be > 0, found -1"), "{}", lines[5]);
+    }
+
+    #[test]
+    fn a_number_too_large_says_it_overflows() {
+        let overrides = Overrides {
+            set: vec!["g=1e400".into()],
+            ..Overrides::default()
+        };
+        let d = plan_of("model: quick_return\n", &overrides).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "--set g=1e400: parameter `g`: the number 1e400 overflows: the largest finite \
+              number is about 1.7976931348623157e308"
+            ]
+        );
+        let d = plan_of(
+            "model: oscillator\ntime:\n  end: -1e999\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:3:3: time.end: the number -1e999 overflows: the largest finite number is \
+              about 1.7976931348623157e308"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_file_without_a_model_still_reports_its_other_shape_errors() {
+        let d = plan_of("time:\n  ends: 2\n", &Overrides::default()).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:1:1: missing field `model`",
+                "s.yaml:2:3: time: unknown field `ends`, expected `start` or `end`"
+            ]
+        );
+    }
+
+    const SWEEP: &str = "model: oscillator\nsweep:\n  parameters:\n    - name: k\n";
+
+    /// Before, a reversed range swept downwards, a repeated value ran twice, one step was
+    /// refused, and `--set` of a swept parameter was silently ignored.
+    #[test]
+    fn a_sweep_range_must_make_sense() {
+        let cases = [
+            (
+                "      from: 10\n      to: 1\n      steps: 3\n",
+                "s.yaml:6:7: `to` (1) is below `from` (10); a sweep goes up: swap them",
+            ),
+            (
+                "      from: 2\n      to: 2\n      steps: 3\n",
+                "s.yaml:7:7: `from` and `to` are both 2, so the 3 steps would all be the same run",
+            ),
+            (
+                "      from: 1\n      to: 2\n      steps: 0\n",
+                "s.yaml:7:7: `steps` (the number of values, ends included) must be >= 1, found 0",
+            ),
+            (
+                "      from: .nan\n      to: 2\n      steps: 3\n",
+                "s.yaml:5:7: `from` must be a finite number, found NaN",
+            ),
+            (
+                "      values: [1, 2, 1]\n",
+                "s.yaml:5:7: 1 is listed twice; each value is one run, list it once",
+            ),
+            (
+                "      values: [1, .inf]\n",
+                "s.yaml:5:7: every value must be finite, found inf",
+            ),
+        ];
+        for (axis, expected) in cases {
+            let text = format!("{SWEEP}{axis}  peaks: [x]\n");
+            let d = plan_of(&text, &Overrides::default()).unwrap_err();
+            assert_eq!(lines(&d).len(), 1, "{text}\n{d}");
+            assert!(lines(&d)[0].starts_with(expected), "{text}\n{d}");
+        }
+        // One step from a value to itself is one run.
+        let text = format!("{SWEEP}      from: 2\n      to: 2\n      steps: 1\n  peaks: [x]\n");
+        let Job::Sweep(sweep) = plan_of(&text, &Overrides::default()).unwrap().job else {
+            panic!("a sweep");
+        };
+        assert_eq!(sweep.axes[0].values, [2.0]);
+    }
+
+    #[test]
+    fn setting_a_swept_parameter_is_an_error_naming_the_sweep() {
+        let text = format!("{SWEEP}      values: [1, 2]\n  peaks: [x]\n");
+        let overrides = Overrides {
+            set: vec!["k=5".into()],
+            ..Overrides::default()
+        };
+        let d = plan_of(&text, &overrides).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "--set k=5: `k` is swept by the scenario (sweep.parameters[0]), so a value set \
+              here would be ignored; drop the --set, or the sweep's axis"
+            ]
+        );
+        let text = format!("model: oscillator\nparameters:\n  k: 5\n{}", &text[18..]);
+        let d = plan_of(&text, &Overrides::default()).unwrap_err();
+        assert!(
+            lines(&d)[0].starts_with("s.yaml:3:3: `k` is swept (sweep.parameters[0])"),
+            "{d}"
+        );
+    }
+
+    /// Before, these ran, drew nothing and showed an empty "Figures" heading.
+    #[test]
+    fn a_figure_that_would_draw_nothing_is_an_error() {
+        let d = plan_of(
+            "model: oscillator\noutput:\n  record: [x]\nplots: [x, speed]\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            lines(&d),
+            [
+                "s.yaml:4:1: figure `speed` would draw nothing: `speed` is not recorded; add it \
+              to `output.record`"
+            ]
+        );
+        let d = plan_of(
+            "model: oscillator\noutput:\n  record: [mass.p]\n",
+            &Overrides::default(),
+        )
+        .unwrap_err();
+        assert!(
+            lines(&d)[0].starts_with(
+                "s.yaml:3:3: `record` names no output, so `plots: all` would draw nothing"
+            ),
+            "{d}"
+        );
+        let d = plan_of("model: quick_return\nplots: []\n", &Overrides::default()).unwrap_err();
+        assert_eq!(
+            lines(&d),
+            ["s.yaml:2:1: `plots` lists no figure; write `plots: none` to draw none"]
+        );
+        // Without figures, recording only a state is fine.
+        let no_plots = Overrides {
+            no_plots: true,
+            ..Overrides::default()
+        };
+        assert!(plan_of(
+            "model: oscillator\noutput:\n  record: [mass.p]\n",
+            &no_plots
+        )
+        .is_ok());
+    }
+
+    #[test]
+    fn text_keys_take_numbers_as_written() {
+        let plan = run_plan(
+            plan_of(
+                "model: oscillator\ndescription: 2024\n",
+                &Overrides::default(),
+            )
+            .unwrap(),
+        );
+        assert_eq!(plan.title, "2024");
     }
 }

@@ -37,11 +37,8 @@ pub(super) fn solver(
         None => (entry.solver)(),
     };
     let before = d.0.len();
-    let setting = |flag: Option<f64>, file: Option<f64>, name: &str| match (flag, file) {
-        (Some(v), _) => Some((v, Origin::Flag(format!("--{name} {v}")))),
-        (None, Some(v)) => Some((v, key(name))),
-        (None, None) => None,
-    };
+    let setting =
+        |flag: Option<f64>, file: Option<f64>, name: &str| pick(flag, file, name, || key(name));
     let method = solver.name();
     let fixed = matches!(solver, Solver::Rk4(_) | Solver::DormandPrinceFixed(_));
     if let Some((rtol, origin)) = setting(overrides.rtol, spec.rtol, "rtol") {
@@ -80,17 +77,17 @@ pub(super) fn solver(
             set_tolerance(&mut solver, None, Some(atol));
         }
     }
-    if let Some(step) = spec.step {
+    if let Some((step, origin)) = setting(overrides.step, spec.step, "step") {
         match &mut solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
                 if step.is_finite() && step > 0.0 {
                     o.step = step;
                 } else {
-                    d.push(key("step"), format!("the step must be a number of seconds > 0, found {step}"));
+                    d.push(origin, format!("the step must be a number of seconds > 0, found {step}"));
                 }
             }
             _ => d.push(
-                key("step"),
+                origin,
                 format!("`step` applies only to the fixed-step solvers rk4 and dopri5-fixed, not {method}"),
             ),
         }
@@ -115,12 +112,12 @@ pub(super) fn solver(
             }
         }
     }
-    if let Some(max_steps) = spec.max_steps {
+    let max_steps = pick(overrides.max_steps, spec.max_steps, "max-steps", || {
+        key("max_steps")
+    });
+    if let Some((max_steps, origin)) = max_steps {
         if max_steps == 0 {
-            d.push(
-                key("max_steps"),
-                "max_steps must be an integer > 0, found 0",
-            );
+            d.push(origin, "max_steps must be an integer > 0, found 0");
         } else {
             match &mut solver {
                 Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.max_steps = max_steps,
@@ -161,6 +158,21 @@ pub(super) fn solver(
         return None;
     }
     Some(solver)
+}
+
+/// A setting from its command-line flag `--flag_name` (which wins) or from the file,
+/// with where it came from; `None` when neither gives it.
+pub(super) fn pick<T: Copy + core::fmt::Display>(
+    flag: Option<T>,
+    file: Option<T>,
+    flag_name: &str,
+    file_origin: impl FnOnce() -> Origin,
+) -> Option<(T, Origin)> {
+    match (flag, file) {
+        (Some(v), _) => Some((v, Origin::Flag(format!("--{flag_name} {v}")))),
+        (None, Some(v)) => Some((v, file_origin())),
+        (None, None) => None,
+    }
 }
 
 fn catalog_number(v: f64) -> String {

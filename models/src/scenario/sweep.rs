@@ -5,8 +5,15 @@ use std::collections::BTreeMap;
 
 use super::locate::KeyPath;
 use super::resolve::{column, Places};
-use super::{Diagnostics, Origin, SweepSpec};
-use crate::catalog::{metric_unit, Axis, Entry, Metric, RunPlan, SweepPlan};
+use super::{AxisSpec, Diagnostics, Origin, SweepSpec};
+use crate::catalog::{format_value, metric_unit, Axis, Entry, Metric, RunPlan, SweepPlan};
+
+/// The most values one axis may have.
+const MAX_STEPS: usize = 10_000;
+
+fn format_number(v: f64) -> String {
+    format_value(&serde_yaml::Value::from(v))
+}
 
 /// The sweep: axes, metrics and window, with every point's parameters checked.
 pub(super) fn sweep(
@@ -69,47 +76,27 @@ pub(super) fn sweep(
             );
             continue;
         }
-        let values = match (&axis.values, axis.from, axis.to, axis.steps) {
-            (Some(values), None, None, None) => {
-                if values.is_empty() {
-                    d.push(places.file(&at.key("values")), "`values` lists no value");
-                    continue;
-                }
-                values.clone()
-            }
-            (None, Some(from), Some(to), Some(steps)) => {
-                if steps < 2 {
-                    d.push(
-                        places.file(&at.key("steps")),
-                        format!("`steps` (the number of values, ends included) must be >= 2, found {steps}"),
-                    );
-                    continue;
-                }
-                if steps > 10_000 {
-                    d.push(
-                        places.file(&at.key("steps")),
-                        format!("`steps` must be at most 10000, found {steps}"),
-                    );
-                    continue;
-                }
-                (0..steps)
-                    .map(|k| from + (to - from) * k as f64 / (steps - 1) as f64)
-                    .collect()
-            }
-            _ => {
-                d.push(
-                    places.file(&at),
-                    "give either `values: [...]` or all of `from`, `to` and `steps`",
-                );
-                continue;
-            }
-        };
-        if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-            d.push(
-                places.file(&at),
-                format!("every value must be finite, found {bad}"),
-            );
+        let Some(values) = axis_values(axis, &at, places, d) else {
             continue;
+        };
+        match origins.get(&axis.name) {
+            Some(origin @ Origin::Flag(_)) => d.push(
+                origin.clone(),
+                format!(
+                    "`{}` is swept by the scenario (sweep.parameters[{i}]), so a value set \
+                     here would be ignored; drop the --set, or the sweep's axis",
+                    axis.name
+                ),
+            ),
+            Some(origin @ Origin::File { .. }) => d.push(
+                origin.clone(),
+                format!(
+                    "`{}` is swept (sweep.parameters[{i}]), so this value would be ignored; \
+                     drop it, or the sweep's axis",
+                    axis.name
+                ),
+            ),
+            _ => {}
         }
         let unit = info.map(|p| p.unit.to_owned()).unwrap_or_default();
         axes.push(Axis {
@@ -157,9 +144,12 @@ pub(super) fn sweep(
         metrics,
         window,
     };
-    // Every point must make physical sense; report the first that does not.
+    // Every point must make physical sense; report the first that does not. Problems
+    // that no swept parameter takes part in are those of the base parameters, reported
+    // with them.
     for point in plan.points() {
-        let problems = entry.model.check(&plan.plan_at(&point).params);
+        let mut problems = entry.model.check(&plan.plan_at(&point).params);
+        problems.retain(|p| plan.axes.iter().any(|a| p.keys.contains(&a.name)));
         if problems.is_empty() {
             continue;
         }
@@ -190,4 +180,112 @@ pub(super) fn sweep(
         return None;
     }
     Some(plan)
+}
+
+/// The values of one axis: its `values`, or `steps` evenly spaced from `from` to `to`
+/// (ends included); every problem with them reported.
+fn axis_values(
+    axis: &AxisSpec,
+    at: &KeyPath,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> Option<Vec<f64>> {
+    let before = d.0.len();
+    let values = match (&axis.values, axis.from, axis.to, axis.steps) {
+        (Some(values), None, None, None) => {
+            if values.is_empty() {
+                d.push(places.file(&at.key("values")), "`values` lists no value");
+                return None;
+            }
+            let origin = places.file(&at.key("values"));
+            if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+                d.push(
+                    origin.clone(),
+                    format!("every value must be finite, found {}", format_number(*bad)),
+                );
+            }
+            let mut seen: Vec<f64> = Vec::new();
+            for &v in values {
+                if seen.contains(&v) {
+                    d.push(
+                        origin.clone(),
+                        format!(
+                            "{} is listed twice; each value is one run, list it once",
+                            format_number(v)
+                        ),
+                    );
+                    break;
+                }
+                seen.push(v);
+            }
+            values.clone()
+        }
+        (None, Some(from), Some(to), Some(steps)) => {
+            for (key, v) in [("from", from), ("to", to)] {
+                if !v.is_finite() {
+                    d.push(
+                        places.file(&at.key(key)),
+                        format!(
+                            "`{key}` must be a finite number, found {}",
+                            format_number(v)
+                        ),
+                    );
+                }
+            }
+            if steps < 1 {
+                d.push(
+                    places.file(&at.key("steps")),
+                    "`steps` (the number of values, ends included) must be >= 1, found 0",
+                );
+            } else if steps > MAX_STEPS {
+                d.push(
+                    places.file(&at.key("steps")),
+                    format!("`steps` must be at most {MAX_STEPS}, found {steps}"),
+                );
+            }
+            if from > to {
+                d.push(
+                    places.file(&at.key("to")),
+                    format!(
+                        "`to` ({}) is below `from` ({}); a sweep goes up: swap them",
+                        format_number(to),
+                        format_number(from)
+                    ),
+                );
+            } else if from == to && steps > 1 {
+                d.push(
+                    places.file(&at.key("steps")),
+                    format!(
+                        "`from` and `to` are both {}, so the {steps} steps would all be the \
+                         same run; use `steps: 1` or widen the range",
+                        format_number(from)
+                    ),
+                );
+            } else if from < to && steps == 1 {
+                d.push(
+                    places.file(&at.key("steps")),
+                    "one step gives only `from`; set `steps` >= 2 to reach `to`, or `to` equal \
+                     to `from`",
+                );
+            }
+            if d.0.len() > before {
+                return None;
+            }
+            if steps == 1 {
+                vec![from]
+            } else {
+                (0..steps)
+                    .map(|k| from + (to - from) * k as f64 / (steps - 1) as f64)
+                    .collect()
+            }
+        }
+        _ => {
+            d.push(
+                places.file(at),
+                "give either `values: [...]` or all of `from`, `to` and `steps`",
+            );
+            return None;
+        }
+    };
+    (d.0.len() == before).then_some(values)
 }

@@ -93,7 +93,7 @@ pub(super) const FIGURES: [Figure; N_FIGURES] = [
         plot: Plot::Time(H1),
         about: "The crank's angular momentum about its centre of mass (h1_x, h1_y, h1_z). \
                 The z component is almost constant after the start-up transient: the \
-                crank is driven at 5 rad/s through the compliant coupling K_C, R_C.",
+                crank is driven at w_drive through the compliant coupling K_C, R_C.",
     },
     Figure {
         id: "fig05",
@@ -116,8 +116,8 @@ pub(super) const FIGURES: [Figure; N_FIGURES] = [
         title: "Variation of torque Tc on the crank with time",
         plot: Plot::Time(TC),
         about: "The torque the drive coupling K_C, R_C exerts on the crank (Tc_x, Tc_y, \
-                Tc_z), against time. It is largest at the start, when the 5 rad/s flow \
-                source is applied suddenly to the crank at rest.",
+                Tc_z), against time. It is largest at the start, when the flow source \
+                w_drive is applied suddenly to the crank at rest.",
     },
     Figure {
         id: "fig08",
@@ -125,7 +125,7 @@ pub(super) const FIGURES: [Figure; N_FIGURES] = [
         title: "Variation of torque Tc on the crank with crank angle",
         plot: Plot::Angle(TC),
         about: "The drive torque, as in Fig. 7, against the crank angle; the start-up \
-                transient is at π/2, the initial crank angle.",
+                transient is at the initial crank angle theta0.",
     },
     Figure {
         id: "fig09",

@@ -20,23 +20,7 @@ type Pick = fn(&Motion) -> f64;
 impl Data<'_> {
     /// The rigid mechanism with the run's link parameters.
     fn rigid_params(&self) -> RigidParams {
-        let p = self.params;
-        RigidParams {
-            m1: p.m1,
-            m2: p.m2,
-            m3: p.m3,
-            m4: p.m4,
-            m5: p.m5,
-            l1: p.l1,
-            l2: p.l2,
-            l3: p.l3,
-            l4: p.l4,
-            l5: p.l5,
-            d: p.d,
-            g: p.g,
-            R3C: p.R3C[0],
-            R5C: p.R5C[0],
-        }
+        RigidParams::of_model(self.params)
     }
 
     /// The samples of the last full crank revolution: from the last sample at or
