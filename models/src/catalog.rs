@@ -107,6 +107,7 @@ use serde_yaml::Mapping;
 pub use checks::{Checks, Problem};
 pub use columns::{resolve_columns, Column};
 pub use figures::figure_ids;
+pub(crate) use params::format_number;
 pub use params::{
     describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
 };

@@ -355,3 +355,28 @@ fn rk4_on_the_stiff_flagship_says_it_is_stiff() {
         out.stderr
     );
 }
+
+/// Numbers in messages are written as a user would write them: `1e300`, not a
+/// 301-digit integer (Rust's `{}` for a large `f64`).
+#[test]
+fn large_numbers_in_messages_are_written_short() {
+    let dir = scratch("large_numbers");
+    let out_dir = dir.join("out");
+    let out = run(&[
+        "run",
+        "oscillator",
+        "--t-end",
+        "1e300",
+        "--interval",
+        "1e-300",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.code, Some(2), "{}", out.stderr);
+    assert_eq!(
+        out.stderr.trim(),
+        "error: --interval 1e-300: a sampling interval of 1e-300 s over 1e300 s gives more \
+         than 10000001 samples; choose a larger interval"
+    );
+    assert!(!out_dir.exists());
+}

@@ -14,8 +14,8 @@ use super::solver::{pick, solver};
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
-    self, format_value, parse_value, resolve_columns, set_parameter, Column, Entry, Plots,
-    ResultsKind, RunPlan, SweepPlan,
+    self, format_number, format_value, parse_value, resolve_columns, set_parameter, Column, Entry,
+    Plots, ResultsKind, RunPlan, SweepPlan,
 };
 use crate::provenance::{folder, Context, Sampling};
 
@@ -337,7 +337,10 @@ fn time_span(
     if !start.is_finite() {
         d.push(
             start_origin,
-            format!("the start time must be a finite number of seconds, found {start}"),
+            format!(
+                "the start time must be a finite number of seconds, found {}",
+                format_number(start)
+            ),
         );
         return None;
     }
@@ -346,7 +349,9 @@ fn time_span(
             end_origin,
             format!(
                 "the time span must be positive: the end time must be a finite number of \
-                 seconds > the start time ({start} s), found {end}"
+                 seconds > the start time ({} s), found {}",
+                format_number(start),
+                format_number(end)
             ),
         );
         return None;
@@ -407,7 +412,8 @@ fn sample_times(
                 d.push(
                     origin,
                     format!(
-                        "the sampling interval must be a number of seconds > 0, found {interval}"
+                        "the sampling interval must be a number of seconds > 0, found {}",
+                        format_number(interval)
                     ),
                 );
                 return None;
@@ -417,8 +423,10 @@ fn sample_times(
                 d.push(
                     origin,
                     format!(
-                        "a sampling interval of {interval} s over {span} s gives more than \
-                         {MAX_SAMPLES} samples; choose a larger interval"
+                        "a sampling interval of {} s over {} s gives more than \
+                         {MAX_SAMPLES} samples; choose a larger interval",
+                        format_number(interval),
+                        format_number(span)
                     ),
                 );
                 return None;

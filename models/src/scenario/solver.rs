@@ -4,11 +4,10 @@
 use std::time::Duration;
 
 use bgdsl_runtime::{Solver, SolverError};
-use serde_yaml::Value;
 
 use super::resolve::{Overrides, Places, RTOL_RANGE};
 use super::{Diagnostics, Origin, Scenario};
-use crate::catalog::{format_value, Entry};
+use crate::catalog::{format_number, Entry};
 
 /// The solver: the model's, or the one named, with the tolerances and limits set.
 pub(super) fn solver(
@@ -52,7 +51,7 @@ pub(super) fn solver(
                 origin,
                 format!(
                     "rtol must be in [1e-14, 0.1], found {}",
-                    catalog_number(rtol)
+                    format_number(rtol)
                 ),
             );
         } else {
@@ -70,7 +69,7 @@ pub(super) fn solver(
                 origin,
                 format!(
                     "atol must be a finite number > 0, found {}",
-                    catalog_number(atol)
+                    format_number(atol)
                 ),
             );
         } else {
@@ -83,7 +82,10 @@ pub(super) fn solver(
                 if step.is_finite() && step > 0.0 {
                     o.step = step;
                 } else {
-                    d.push(origin, format!("the step must be a number of seconds > 0, found {step}"));
+                    d.push(origin, format!(
+                        "the step must be a number of seconds > 0, found {}",
+                        format_number(step)
+                    ));
                 }
             }
             _ => d.push(
@@ -96,7 +98,10 @@ pub(super) fn solver(
         if max_step.is_nan() || max_step <= 0.0 {
             d.push(
                 key("max_step"),
-                format!("max_step must be a number of seconds > 0, found {max_step}"),
+                format!(
+                    "max_step must be a number of seconds > 0, found {}",
+                    format_number(max_step)
+                ),
             );
         } else {
             match &mut solver {
@@ -132,7 +137,10 @@ pub(super) fn solver(
         if !(limit.is_finite() && limit > 0.0) {
             d.push(
                 key("max_wall_time"),
-                format!("max_wall_time must be a number of seconds > 0, found {limit}"),
+                format!(
+                    "max_wall_time must be a number of seconds > 0, found {}",
+                    format_number(limit)
+                ),
             );
         } else {
             let limit = Some(Duration::from_secs_f64(limit));
@@ -160,23 +168,38 @@ pub(super) fn solver(
     Some(solver)
 }
 
+/// A number as a message shows it: an `f64` in the shortest form that reads back to it
+/// (`1e-300`, not 300 zeros), a count as it is.
+pub(super) trait Shown: Copy {
+    /// The number as text.
+    fn shown(self) -> String;
+}
+
+impl Shown for f64 {
+    fn shown(self) -> String {
+        format_number(self)
+    }
+}
+
+impl Shown for usize {
+    fn shown(self) -> String {
+        self.to_string()
+    }
+}
+
 /// A setting from its command-line flag `--flag_name` (which wins) or from the file,
 /// with where it came from; `None` when neither gives it.
-pub(super) fn pick<T: Copy + core::fmt::Display>(
+pub(super) fn pick<T: Shown>(
     flag: Option<T>,
     file: Option<T>,
     flag_name: &str,
     file_origin: impl FnOnce() -> Origin,
 ) -> Option<(T, Origin)> {
     match (flag, file) {
-        (Some(v), _) => Some((v, Origin::Flag(format!("--{flag_name} {v}")))),
+        (Some(v), _) => Some((v, Origin::Flag(format!("--{flag_name} {}", v.shown())))),
         (None, Some(v)) => Some((v, file_origin())),
         (None, None) => None,
     }
-}
-
-fn catalog_number(v: f64) -> String {
-    format_value(&Value::from(v))
 }
 
 /// Sets the tolerances of an adaptive solver.

@@ -6,14 +6,10 @@ use std::collections::BTreeMap;
 use super::locate::KeyPath;
 use super::resolve::{column, Places};
 use super::{AxisSpec, Diagnostics, Origin, SweepSpec};
-use crate::catalog::{format_value, metric_unit, Axis, Entry, Metric, RunPlan, SweepPlan};
+use crate::catalog::{format_number, metric_unit, Axis, Entry, Metric, RunPlan, SweepPlan};
 
 /// The most values one axis may have.
 const MAX_STEPS: usize = 10_000;
-
-fn format_number(v: f64) -> String {
-    format_value(&serde_yaml::Value::from(v))
-}
 
 /// The sweep: axes, metrics and window, with every point's parameters checked.
 pub(super) fn sweep(
