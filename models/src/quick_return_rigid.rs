@@ -91,11 +91,13 @@ impl Default for RigidParams {
     }
 }
 
-impl RigidParams {
-    /// The rigid mechanism with the links, pivot distance, gravity and slide frictions
-    /// of a run of the compliant model.
-    pub fn of_model(p: &crate::quick_return::QuickReturnParams) -> Self {
-        RigidParams {
+/// The rigid mechanism's data (a [`RigidParams`]) from the parameters `$p` of a quick
+/// return model: any struct with the compliant model's fields of those names, so the
+/// speed- and the torque-driven model's alike.
+macro_rules! rigid_params_of {
+    ($p:expr) => {{
+        let p = $p;
+        $crate::quick_return_rigid::RigidParams {
             m1: p.m1,
             m2: p.m2,
             m3: p.m3,
@@ -111,6 +113,15 @@ impl RigidParams {
             R3C: p.R3C[0],
             R5C: p.R5C[0],
         }
+    }};
+}
+pub(crate) use rigid_params_of;
+
+impl RigidParams {
+    /// The rigid mechanism with the links, pivot distance, gravity and slide frictions
+    /// of a run of the compliant model.
+    pub fn of_model(p: &crate::quick_return::QuickReturnParams) -> Self {
+        rigid_params_of!(p)
     }
 
     /// The masses, link by link.

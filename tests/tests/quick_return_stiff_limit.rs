@@ -57,27 +57,6 @@ fn stiff_limit() -> QuickReturnParams {
     }
 }
 
-/// The rigid mechanism with the same masses, boxes, geometry, gravity and slide
-/// frictions.
-fn rigid_params(p: &QuickReturnParams) -> RigidParams {
-    RigidParams {
-        m1: p.m1,
-        m2: p.m2,
-        m3: p.m3,
-        m4: p.m4,
-        m5: p.m5,
-        l1: p.l1,
-        l2: p.l2,
-        l3: p.l3,
-        l4: p.l4,
-        l5: p.l5,
-        d: p.d,
-        g: p.g,
-        R3C: p.R3C[0],
-        R5C: p.R5C[0],
-    }
-}
-
 fn output(name: &str) -> usize {
     QuickReturn::OUTPUT_NAMES
         .iter()
@@ -197,7 +176,7 @@ fn crank_period(run: &Run) -> f64 {
 /// The comparison, for one choice of K3C's rocker point; returns the worst deviation
 /// of the drive torque and joint forces as a fraction of their peaks.
 fn check_against_rigid(params: QuickReturnParams) -> f64 {
-    let rigid = rigid_params(&params);
+    let rigid = RigidParams::of_model(&params);
     // The reference's own cycle: ratio exactly 2 (240° forward, 120° back).
     assert!((quick_return_cycle(&rigid).time_ratio - 2.0).abs() < 1e-12);
     let run = run(params);

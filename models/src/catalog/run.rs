@@ -19,6 +19,7 @@ use super::folder::RunFolder;
 use super::params::format_significant;
 use super::{Catalogued, Column, Entry, ResultsKind};
 use crate::provenance::{self, Context};
+use crate::quick_return::figures::DrawnFigure;
 use crate::quick_return::results::{Results, COLUMNS, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
@@ -248,12 +249,30 @@ pub(super) fn failure_text(solver: &Solver, error: &SolverError) -> String {
     }
 }
 
-/// Why a run that integrated to its end is partial all the same: it was interrupted
-/// while writing its files or drawing.
-pub(super) fn interrupted_after_integrating(observer: &dyn Observer) -> Option<String> {
-    observer
-        .stop_requested()
-        .then(|| "interrupted while writing the results and drawing the figures".to_owned())
+/// Settles a run's (or a sweep's) outcome once its figures are drawn: `failure`
+/// becomes the interruption if a signal came while writing or drawing, and the
+/// figures drawn come back with why drawing failed, if it did, to report beside the
+/// results (a partial run's drawing failure is not reported: the run's is).
+///
+/// # Errors
+///
+/// [`RunError::Io`] from drawing: a file that cannot be written (a full disk), for
+/// which the whole set is abandoned.
+pub(super) fn settle_drawing(
+    drawing: Result<Vec<DrawnFigure>, RunError>,
+    failure: &mut Option<String>,
+    observer: &dyn Observer,
+) -> Result<(Vec<DrawnFigure>, Option<String>), RunError> {
+    if failure.is_none() && observer.stop_requested() {
+        *failure = Some("interrupted while writing the results and drawing the figures".to_owned());
+    }
+    match drawing {
+        Ok(drawn) => Ok((drawn, None)),
+        Err(e @ RunError::Io { .. }) => Err(e),
+        Err(_) if failure.is_some() => Ok((Vec::new(), None)),
+        Err(RunError::Figures(message)) => Ok((Vec::new(), Some(message))),
+        Err(other) => Ok((Vec::new(), Some(other.to_string()))),
+    }
 }
 
 /// Creates the output directory `dir` with any missing folders above it: the one rule
@@ -384,20 +403,8 @@ where
             (_, None, None) => Ok(Vec::new()),
         }
     };
-    if failure.is_none() {
-        failure = interrupted_after_integrating(observer);
-    }
+    let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
     let partial = failure.is_some();
-    // The results are written: a failure to draw still leaves the summary and the
-    // index, and is reported beside them (an interrupted drawing is a partial run).
-    let (drawn, figures_error) = match drawing {
-        Ok(drawn) => (drawn, None),
-        // A file that cannot be written (a full disk): the set is abandoned.
-        Err(e @ RunError::Io { .. }) => return Err(e),
-        Err(_) if partial => (Vec::new(), None),
-        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
-        Err(other) => (Vec::new(), Some(other.to_string())),
-    };
     let plotting = plotting.elapsed();
 
     // The summary names the files where they will be once committed.

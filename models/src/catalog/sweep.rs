@@ -13,7 +13,7 @@ use serde_yaml::Value;
 
 use super::folder::RunFolder;
 use super::params::{format_number, format_significant};
-use super::run::{interrupted_after_integrating, Observer};
+use super::run::{settle_drawing, Observer};
 use super::{figures, Column, Entry, RunError, RunPlan};
 use crate::provenance;
 use crate::report::INDEX_FILE;
@@ -248,18 +248,8 @@ pub fn run_sweep(
     } else {
         figures::sweep(plan, &points, &rows, dir)
     };
-    if failure.is_none() {
-        failure = interrupted_after_integrating(observer);
-    }
+    let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
     let partial = failure.is_some();
-    let (drawn, figures_error) = match drawing {
-        Ok(drawn) => (drawn, None),
-        // A file that cannot be written (a full disk): the set is abandoned.
-        Err(e @ RunError::Io { .. }) => return Err(e),
-        Err(_) if partial => (Vec::new(), None),
-        Err(RunError::Figures(message)) => (Vec::new(), Some(message)),
-        Err(other) => (Vec::new(), Some(other.to_string())),
-    };
     let target = folder.target(partial);
     let path = target.join(table_name);
 

@@ -173,23 +173,7 @@ pub const SPEED_CONTROLLER: crate::control::PiController =
 
 /// The rigid-body data of the mechanism `model` describes.
 pub fn rigid_params(model: &QuickReturnTorque) -> crate::quick_return_rigid::RigidParams {
-    let p = &model.params;
-    crate::quick_return_rigid::RigidParams {
-        m1: p.m1,
-        m2: p.m2,
-        m3: p.m3,
-        m4: p.m4,
-        m5: p.m5,
-        l1: p.l1,
-        l2: p.l2,
-        l3: p.l3,
-        l4: p.l4,
-        l5: p.l5,
-        d: p.d,
-        g: p.g,
-        R3C: p.R3C[0],
-        R5C: p.R5C[0],
-    }
+    crate::quick_return_rigid::rigid_params_of!(&model.params)
 }
 
 /// Runs `model` for `t_end` seconds with [`SPEED_CONTROLLER`] holding the crank at
