@@ -9,19 +9,9 @@ mod common;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use common::{files, run_in, scratch, Run};
+use common::{assert_success, files, run_in, scratch};
 use models::provenance::{RunRecord, FILE_NAME};
 use serde_yaml::{Mapping, Value};
-
-fn assert_success(run: &Run) {
-    assert_eq!(
-        run.code,
-        Some(0),
-        "stdout:\n{}\nstderr:\n{}",
-        run.stdout,
-        run.stderr
-    );
-}
 
 /// Reads `dir/run.yaml`.
 fn record(dir: &Path) -> RunRecord {

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{run_in, scratch, Csv, BIN};
+use common::{assert_code, run_in, scratch, Csv, BIN};
 
 /// Every file under `dir` (relative path → contents), hidden ones included.
 fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
@@ -57,16 +57,6 @@ fn quick_run<'a>(out: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec!["run", "quick_return", "--t-end", "0.05", "--out", out];
     args.extend_from_slice(extra);
     args
-}
-
-fn assert_code(run: &common::Run, code: i32) {
-    assert_eq!(
-        run.code,
-        Some(code),
-        "stdout:\n{}\nstderr:\n{}",
-        run.stdout,
-        run.stderr
-    );
 }
 
 /// A quick return scenario whose step budget runs out at about 6 ms.

@@ -8,17 +8,7 @@ mod common;
 use std::fs;
 use std::path::Path;
 
-use common::{files, run, run_in, scratch, Csv};
-
-fn assert_success(run: &common::Run) {
-    assert_eq!(
-        run.code,
-        Some(0),
-        "stdout:\n{}\nstderr:\n{}",
-        run.stdout,
-        run.stderr
-    );
-}
+use common::{assert_success, files, run, run_in, scratch, Csv};
 
 /// The `rigid links` column of a summary row starting with `quantity`.
 fn rigid_column(stdout: &str, quantity: &str) -> String {

@@ -6,18 +6,8 @@ mod common;
 
 use std::fs;
 
-use common::{run, scratch, Csv};
+use common::{assert_success, run, scratch, Csv};
 use models::quick_return::results::{header as spec_header, COLUMNS};
-
-fn assert_success(run: &common::Run) {
-    assert_eq!(
-        run.code,
-        Some(0),
-        "stdout:\n{}\nstderr:\n{}",
-        run.stdout,
-        run.stderr
-    );
-}
 
 /// The whitespace-separated cells of the line of `text` that starts with `name `
 /// (after its indentation).

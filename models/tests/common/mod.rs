@@ -46,6 +46,22 @@ impl From<Output> for Run {
     }
 }
 
+/// Asserts that `run` exited with `code`, showing its output if not.
+pub fn assert_code(run: &Run, code: i32) {
+    assert_eq!(
+        run.code,
+        Some(code),
+        "stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+}
+
+/// Asserts that `run` succeeded (exit status 0), showing its output if not.
+pub fn assert_success(run: &Run) {
+    assert_code(run, 0);
+}
+
 /// Runs the binary with `args` in directory `cwd`.
 pub fn run_in(cwd: &Path, args: &[&str]) -> Run {
     Command::new(BIN)
