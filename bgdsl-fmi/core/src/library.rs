@@ -15,19 +15,20 @@ pub const LIBRARY_ENV: &str = "BGDSL_FMI_LIBRARY";
 /// The file name of the shared library `cargo build -p bgdsl-fmi` makes on this
 /// platform (`libbgdsl_fmi.so` on Linux).
 pub fn library_file_name() -> String {
+    dll_file_name("bgdsl_fmi")
+}
+
+/// The platform's file name of the shared library called `name`.
+fn dll_file_name(name: &str) -> String {
     format!(
-        "{}bgdsl_fmi{}",
+        "{}{name}{}",
         std::env::consts::DLL_PREFIX,
         std::env::consts::DLL_SUFFIX
     )
 }
 
 /// Finds the shared library: the file named by `BGDSL_FMI_LIBRARY` if set; otherwise
-/// [`library_file_name`] next to the running program, or one folder up (so that
-/// `target/release/models`, tests in `target/debug/deps/` and examples in
-/// `target/debug/examples/` all find `target/<profile>/libbgdsl_fmi.so`), or in
-/// `deps/` beside the program (where `cargo test` leaves the library without copying
-/// it up; a library built from other model code is refused later by [`check_serves`]).
+/// [`library_file_name`] found by [`find_library_named`].
 ///
 /// # Errors
 ///
@@ -41,12 +42,28 @@ pub fn find_library() -> Result<PathBuf, FmuError> {
             Err(FmuError::LibraryNotFound { tried: vec![path] })
         };
     }
+    find_library_named("bgdsl_fmi")
+}
+
+/// Finds the shared library of the crate whose library is called `name` (the
+/// platform's file name, `lib<name>.so` on Linux): next to the running program, or one
+/// folder up (so that `target/release/models`, tests in `target/debug/deps/` and
+/// examples in `target/debug/examples/` all find `target/<profile>/`), or in `deps/`
+/// beside the program (where `cargo test` leaves a library without copying it up; a
+/// library built from other model code is refused later by [`check_serves`]). A crate
+/// exporting its own model's FMU finds its library with it.
+///
+/// # Errors
+///
+/// [`FmuError::LibraryNotFound`], listing the paths tried.
+pub fn find_library_named(name: &str) -> Result<PathBuf, FmuError> {
+    let file = dll_file_name(name);
     let mut tried = Vec::new();
     if let Ok(exe) = std::env::current_exe() {
         let beside = exe.ancestors().skip(1).take(2).map(Path::to_path_buf);
         let in_deps = exe.parent().map(|dir| dir.join("deps"));
         for dir in beside.chain(in_deps) {
-            let candidate = dir.join(library_file_name());
+            let candidate = dir.join(&file);
             if candidate.is_file() {
                 return Ok(candidate);
             }

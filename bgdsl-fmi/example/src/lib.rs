@@ -70,22 +70,14 @@ pub fn check_room(values: &[f64]) -> Result<(), String> {
     Ok(())
 }
 
-/// The shared library this crate builds, beside the running program (`cargo build`
-/// puts both in `target/<profile>/`), or in `deps/` below it (where `cargo test`
-/// leaves it without copying it up).
-pub fn library_beside(program: &Path) -> PathBuf {
-    let name = format!(
-        "{}room_fmu{}",
-        std::env::consts::DLL_PREFIX,
-        std::env::consts::DLL_SUFFIX
-    );
-    let beside = program.with_file_name(&name);
-    let in_deps = program.with_file_name("deps").join(&name);
-    if !beside.is_file() && in_deps.is_file() {
-        in_deps
-    } else {
-        beside
-    }
+/// The shared library this crate builds (`libroom_fmu.so`), found beside the running
+/// program as `bgdsl-fmi-core` finds its own.
+///
+/// # Errors
+///
+/// [`FmuError::LibraryNotFound`], listing the paths tried.
+pub fn find_library() -> Result<PathBuf, FmuError> {
+    bgdsl_fmi_core::find_library_named("room_fmu")
 }
 
 /// Writes the room's FMU to `out` (a file, or a folder for `room.fmu`) with `library`

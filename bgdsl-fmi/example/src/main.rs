@@ -8,14 +8,7 @@ fn main() -> ExitCode {
     let out = std::env::args_os()
         .nth(1)
         .map_or_else(|| PathBuf::from("room.fmu"), PathBuf::from);
-    let library = match std::env::current_exe() {
-        Ok(program) => room_fmu::library_beside(&program),
-        Err(e) => {
-            eprintln!("error: cannot locate this program: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    match room_fmu::write_fmu(&library, &out) {
+    match room_fmu::find_library().and_then(|library| room_fmu::write_fmu(&library, &out)) {
         Ok(written) => {
             println!("{}", written.display());
             ExitCode::SUCCESS
