@@ -19,7 +19,7 @@ pub const DOPRI5_STABILITY: f64 = 3.307;
 
 /// An estimate of the spectral radius of `∂f/∂x` of `model` at `(t, x)`, 1/s: the mean
 /// growth per application of the Jacobian to a vector over the last half of
-/// [`ITERATIONS`] power iterations (for complex or several dominant eigenvalues of one
+/// a fixed number of power iterations (for complex or several dominant eigenvalues of one
 /// magnitude this still tends to that magnitude). 0 when the derivatives do not depend
 /// on the state; `None` when they are not finite there.
 pub fn spectral_radius<M: Model>(model: &M, t: f64, x: &[f64]) -> Option<f64> {

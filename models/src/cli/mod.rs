@@ -43,7 +43,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::catalog::RunError;
 use crate::scenario::Diagnostics;
 
-pub use progress::{install_interrupt_handler, Progress};
+pub use progress::Progress;
 
 /// The command line.
 #[derive(Debug, Parser)]

@@ -1,6 +1,6 @@
 //! The progress bar of runs and sweeps (on stderr, only when it is a terminal, and
-//! only once a run has taken more than a moment), and the installation of the signal
-//! handler ([`crate::interrupt`]) that asks a run to stop and keep what it computed.
+//! only once a run has taken more than a moment); it passes the interrupt of
+//! [`crate::interrupt`] on to runs as a stop request.
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -10,14 +10,6 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::catalog::Observer;
-
-/// Installs the handler of SIGINT (Ctrl-C), SIGTERM and SIGHUP: the first signal asks
-/// the run to stop (it then commits its partial set and the program exits with status
-/// 1); a second one removes the staging folder and exits at once with status 130 (see
-/// [`crate::interrupt`]). Does nothing if a handler cannot be installed.
-pub fn install_interrupt_handler() {
-    crate::interrupt::install_handler();
-}
 
 /// How long a run goes before its bar appears.
 const GRACE: Duration = Duration::from_millis(300);

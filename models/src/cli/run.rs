@@ -5,7 +5,7 @@ use std::io::{BufRead, IsTerminal, Write};
 use std::path::Path;
 
 use super::info::print;
-use super::progress::{install_interrupt_handler, Progress};
+use super::progress::Progress;
 use super::{Failure, RunArgs};
 use crate::catalog::{run_sweep, size};
 use crate::scenario::{self, resolve, Job, Origin, Overrides, Scenario};
@@ -75,7 +75,7 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
         confirm(&estimate)?;
     }
 
-    install_interrupt_handler();
+    crate::interrupt::install_handler();
     let progress = Progress::new();
     let (summary, failure, figures_error, first_file) = match &plan.job {
         Job::Run(run) => {

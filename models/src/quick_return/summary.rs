@@ -39,7 +39,7 @@
 //! The [`Summary`] adds the solver, its counters and the wall time, and beside the
 //! measurements the values of the rigid mechanism with the run's own parameters
 //! ([`RigidReference`]: the stroke and time ratio of
-//! [`try_quick_return_cycle`](crate::quick_return_rigid::try_quick_return_cycle), the
+//! [`try_quick_return_cycle`], the
 //! period `2π/|w_drive|`); its `Display` prints a table.
 
 use core::f64::consts::TAU;
