@@ -339,13 +339,15 @@ impl Builder<'_> {
                 };
                 let bond = bonds[0];
                 let rewritten = self.rewrite(value);
-                let (defines, negate) = if element.kind == ElementKind::Se {
-                    (Signal::Effort(bond), false)
+                // A source sets its bond's effort or flow counted along the half arrow,
+                // whichever way the arrow points (an inward bond makes it a sink).
+                let defines = if element.kind == ElementKind::Se {
+                    Signal::Effort(bond)
                 } else {
-                    (Signal::Flow(bond), graph.bond(bond).points_into(id))
+                    Signal::Flow(bond)
                 };
                 let rhs = Rhs::Law {
-                    negate,
+                    negate: false,
                     bindings: Vec::new(),
                     expr: rewritten.expr,
                 };

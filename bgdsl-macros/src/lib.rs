@@ -174,14 +174,22 @@ mod units;
 ///
 /// | kind | `= expr` means | explicit form | own variables |
 /// |---|---|---|---|
-/// | `Se` | the effort it imposes | – | – |
-/// | `Sf` | the flow it imposes | – | – |
-/// | `C` | stiffness k: `e = k q` | `{ e = φ(q) }` | `q` (displacement) |
+/// | `Se` | the effort it sets on its bond | – | – |
+/// | `Sf` | the flow it sets on its bond | – | – |
+/// | `C` | a stiffness k (not a compliance): `e = k q` | `{ e = φ(q) }` | `q` (displacement) |
 /// | `I` | inertia m: `f = p / m` | `{ f = φ(p) }` | `p` (momentum) |
 /// | `R` | resistance r: `e = r f` | `{ e = φ(f) }` and/or `{ f = ψ(e) }` | `f` or `e` |
 /// | `TF` | modulus n: `e1 = n e2`, `f2 = n f1` | – | – |
 /// | `GY` | modulus r: `e1 = r f2`, `e2 = r f1` | – | – |
 /// | `0`, `1` | junctions: common effort, common flow | – | – |
+///
+/// A source sets its bond's effort (Se, MSe) or flow (Sf, MSf) counted in the half
+/// arrow's direction, whichever way the arrow points: `Sf drive = w; drive -> j;`
+/// brings `w` into `j`, while `j -> drive;` takes `w` out of it (a bond entering a
+/// source makes it a sink). The same holds for multibond sources and sources on a
+/// splitter's components. A C's linear law is a stiffness: a shaft of stiffness
+/// `k_shaft` is `C shaft = k_shaft;`, not `1.0 / k_shaft` (20-sim's and BondLib's
+/// compliance).
 ///
 /// A linear law is inverted when causality needs it (an R that must compute its flow
 /// uses `f = e / r`). An explicit law is used only in the form given: an R whose
@@ -193,8 +201,8 @@ mod units;
 ///
 /// Laws and outputs are Rust expressions in the model's scalar type. They may use
 /// parameters by name, `t` (time), the element's own variables, and any signal of the
-/// graph: `name.e`, `name.f` of a one-port (port variables: power positive into C, I,
-/// R and out of sources), `name.q` / `name.p` of a storage element, `name.e` of a
+/// graph: `name.e`, `name.f` of a one-port (port variables: power positive into C, I
+/// and R; a source's are its bond's, along the half arrow), `name.q` / `name.p` of a storage element, `name.e` of a
 /// 0-junction, `name.f` of a 1-junction, `name.e1`/`f1`/`e2`/`f2` of a TF or GY, and
 /// `label.e` / `label.f` of a labelled bond. Methods of [`Scalar`] (`sin`, `exp`,
 /// `powi`, `abs`, ...) are available. Float literals (and integer literals used as

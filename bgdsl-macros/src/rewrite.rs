@@ -65,14 +65,11 @@ pub fn element_signal(
         return Err(no_such_signal(&graph.describe(element), el.kind, member));
     }
     let bond = |i: usize| el.bonds[i];
-    // One-ports: power positive into passive elements, out of sources.
-    let port_negated = || {
-        let b = graph.bond(bond(0));
-        let inward = b.points_into(element);
-        match el.kind {
-            ElementKind::Se | ElementKind::Sf => inward,
-            _ => !inward,
-        }
+    // Passive one-ports: power positive into the element. A source's variables are its
+    // bond's, counted along the half arrow (so an Sf's `f` is always its value).
+    let port_negated = || match el.kind {
+        ElementKind::Se | ElementKind::Sf => false,
+        _ => !graph.bond(bond(0)).points_into(element),
     };
     let term = match (el.kind, member) {
         (ElementKind::C, "q") | (ElementKind::I, "p") => {
