@@ -295,7 +295,10 @@ impl Resolver {
                 let hint = match kind {
                     Se | Sf => format!("`{word} {name} = value;`"),
                     Tf | Gy => format!("`{word} {name} = modulus;`"),
-                    C => format!("`C {name} = stiffness;` or `C {name} {{ e = ...q... }}`"),
+                    C => format!(
+                        "`C {name} = k;` with k its stiffness, `e = k q` (a compliance c is \
+                         `1.0 / c`), or `C {name} {{ e = ...q... }}`"
+                    ),
                     I => format!("`I {name} = inertia;` or `I {name} {{ f = ...p... }}`"),
                     _ => format!("`R {name} = resistance;` or `R {name} {{ e = ...f... }}`"),
                 };
