@@ -358,7 +358,10 @@ impl Builder<'_> {
                 let Law::Linear(modulus) = &element.law else {
                     return;
                 };
-                let (b1, b2) = (bonds[0], bonds[1]);
+                // A two-port taken apart by a splitter has no bonds of its own.
+                let [b1, b2] = bonds[..] else {
+                    return;
+                };
                 let receives_e1 = self.stroke_at(b1) == id;
                 let (e1, f1, e2, f2) = (
                     Signal::Effort(b1),

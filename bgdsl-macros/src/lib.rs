@@ -123,10 +123,20 @@ mod units;
 /// components (bonded to `s.0` .. `s.{n-1}`), and the components may take different
 /// causalities: an anchor driven along x (`Sf drive -> s.0`), held along y and pushed
 /// along z (`Se push -> s.2`). The junctions between a splitter and the elements that
-/// act on whole vectors (C, I, R, sources, TF) are taken apart into one scalar junction
-/// per component, so causality is assigned component by component there; a
-/// whole-vector element itself takes one causality for all its components (to let a
-/// damper's components differ, write it as scalar dampers behind a second splitter).
+/// act on whole vectors (C, I, R, sources, a TF or GY whose modulus may be a matrix) are
+/// taken apart into one scalar junction per component, so causality is assigned
+/// component by component there; a whole-vector element itself takes one causality for
+/// all its components (to let a damper's components differ, write it as scalar dampers
+/// behind a second splitter). A TF or GY whose modulus is a plain number acts on each
+/// component alike, so it is taken apart too, into n scalar two-ports with the same
+/// modulus, and the junctions beyond it with it: `guide -> lever -> anchor` with
+/// `TF lever = n;` passes a flow source's speed on along x and an effort source's push
+/// along z. A plain number is what the compiler can see is one: literals, `f64`
+/// parameters and inputs, components of vector or matrix parameters (`K.x`), `t`, and
+/// arithmetic and scalar methods (`sin`, `sqrt`, `powi`, ...) of these; a matrix
+/// parameter, a helper call or a signal keeps the two-port whole (a causal conflict
+/// through it says so). The taken-apart two-port's `e1`, `f1`, `e2`, `f2` are vectors
+/// assembled from its components'.
 ///
 /// ## Submodels
 ///

@@ -323,8 +323,8 @@ fn assemble_tokens(parts: &[Term], span: Span) -> proc_macro2::TokenStream {
 }
 
 impl Rewriter<'_, '_> {
-    /// The common variable of a junction a splitter took apart: made of its scalar
-    /// components' common variables.
+    /// The common variable of a junction a splitter took apart, or a port variable of a
+    /// two-port it took apart: made of its scalar components' variables.
     fn assembled(&mut self, base: &Ident, member: &Ident) -> Option<Vec<Term>> {
         let Some(Lookup::Element(id)) = self.lookup(base) else {
             return None;
@@ -332,9 +332,15 @@ impl Rewriter<'_, '_> {
         let graph = self.scope.graph;
         let dissolved = graph.dissolved(id)?;
         let kind = graph.element(id).kind;
-        let signal: fn(crate::ir::BondId) -> Signal = match (kind, member.to_string().as_str()) {
-            (ElementKind::Zero, "e") => Signal::Effort,
-            (ElementKind::One, "f") => Signal::Flow,
+        type Variable = fn(crate::ir::BondId) -> Signal;
+        // Which port of each component, and which of its variables.
+        let (port, signal): (usize, Variable) = match (kind, member.to_string().as_str()) {
+            (ElementKind::Zero, "e") => (0, Signal::Effort),
+            (ElementKind::One, "f") => (0, Signal::Flow),
+            (ElementKind::Tf | ElementKind::Gy, "e1") => (0, Signal::Effort),
+            (ElementKind::Tf | ElementKind::Gy, "f1") => (0, Signal::Flow),
+            (ElementKind::Tf | ElementKind::Gy, "e2") => (1, Signal::Effort),
+            (ElementKind::Tf | ElementKind::Gy, "f2") => (1, Signal::Flow),
             _ => return None,
         };
         let parts: Vec<Term> = dissolved
@@ -344,7 +350,7 @@ impl Rewriter<'_, '_> {
                 graph
                     .element(c)
                     .bonds
-                    .first()
+                    .get(port)
                     .map(|&b| Term::plus(signal(b)))
             })
             .collect();

@@ -7,16 +7,20 @@
 //! scalar 0-junctions side by side), so this stage takes apart every junction reachable
 //! from a splitter's multibond through junctions: each becomes n scalar junctions, each
 //! multibond between two of them n scalar bonds, and each splitter n two-bond
-//! 0-junctions joining its components to theirs. Where the taken-apart region meets an
-//! element that acts on the whole vector (a C, I or R with a matrix law, a source, a
-//! TF), the multibond stays and a splitter is inserted in front of the element: those
-//! splitters are the only ones the later stages see, and the element's own causality
-//! is uniform across its components anyway.
+//! 0-junctions joining its components to theirs. A TF or GY whose modulus is a plain
+//! number (see [`scalar_modulus`]) acts on each component alike, so it is taken apart
+//! too, into n scalar two-ports with the same modulus, and the region goes on through
+//! it: its components may take different causalities. Where the taken-apart region
+//! meets an element that acts on the whole vector (a C, I or R, a source, a TF or GY
+//! with a matrix modulus), the multibond stays and a splitter is inserted in front of
+//! the element: those splitters are the only ones the later stages see, and the
+//! element's own causality is uniform across its components anyway.
 
 use quote::format_ident;
+use syn::{BinOp, Expr, Lit, UnOp};
 
 use crate::errors::Errors;
-use crate::ir::{Bond, BondId, Dissolved, Element, ElementId, ElementKind, Graph, Law};
+use crate::ir::{Bond, BondId, Dissolved, Element, ElementId, ElementKind, Graph, Law, Shape};
 
 /// Takes apart the junction structure around every splitter (see the module docs).
 pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
@@ -42,9 +46,18 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
             kind => kind,
         };
         let name = element.name.clone();
+        // A two-port's components keep its modulus.
+        let modulus = match &element.law {
+            Law::Linear(modulus) => Some(modulus.clone()),
+            _ => None,
+        };
         for i in 0..n {
             let component = format_ident!("{}__{}", name, i, span = name.span());
-            components[id.0].push(push_element(graph, component, kind));
+            let part = push_element(graph, component, kind);
+            if let Some(modulus) = &modulus {
+                graph.elements[part.0].law = Law::Linear(modulus.clone());
+            }
+            components[id.0].push(part);
         }
     }
     let old_ports: Vec<Vec<BondId>> = graph
@@ -124,6 +137,20 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
             ports.iter().filter_map(|old| outside_end[old.0]).collect()
         };
     }
+    // A two-port's components take port 1 (the bond pointing in) first.
+    for &id in &region {
+        for &part in &components[id.0] {
+            let bonds = &graph.elements[part.0].bonds;
+            if matches!(
+                graph.elements[part.0].kind,
+                ElementKind::Tf | ElementKind::Gy
+            ) && bonds.len() == 2
+                && !graph.bonds[bonds[0].0].points_into(part)
+            {
+                graph.elements[part.0].bonds.swap(0, 1);
+            }
+        }
+    }
     for &id in &region {
         graph.dissolved.push(Dissolved {
             element: id,
@@ -132,8 +159,8 @@ pub fn dissolve(graph: &mut Graph, errors: &mut Errors) {
     }
 }
 
-/// The splitters, and every junction reachable from a splitter's multibond through
-/// junctions, in id order.
+/// The splitters, and every junction (and TF or GY with a scalar modulus) reachable
+/// from a splitter's multibond through junctions and such two-ports, in id order.
 fn region(graph: &Graph) -> Vec<ElementId> {
     let mut inside = vec![false; graph.elements.len()];
     let mut stack: Vec<ElementId> = graph
@@ -152,16 +179,77 @@ fn region(graph: &Graph) -> Vec<ElementId> {
         };
         for &bond in bonds {
             let next = graph.bond(bond).other(id);
-            let joins = matches!(
-                graph.element(next).kind,
-                ElementKind::Zero | ElementKind::One | ElementKind::Split
-            );
+            let joins = match graph.element(next).kind {
+                ElementKind::Zero | ElementKind::One | ElementKind::Split => true,
+                ElementKind::Tf | ElementKind::Gy => separable(graph, next),
+                _ => false,
+            };
             if joins && graph.bond_dims[bond.0] > 1 && !inside[next.0] {
                 stack.push(next);
             }
         }
     }
     graph.element_ids().filter(|id| inside[id.0]).collect()
+}
+
+/// Whether a two-port acts on each component of its multibonds alike: its modulus is
+/// a plain number, and it has both its bonds.
+fn separable(graph: &Graph, id: ElementId) -> bool {
+    let element = graph.element(id);
+    match &element.law {
+        Law::Linear(modulus) => element.bonds.len() == 2 && scalar_modulus(graph, modulus),
+        _ => false,
+    }
+}
+
+/// Whether an expression is certainly a number, not a vector or matrix: literals,
+/// `f64` parameters and inputs, a component of a vector or matrix parameter (`K.x`,
+/// `R.m21`), time, and arithmetic and the usual scalar functions of these. Anything
+/// else (a matrix parameter, a call of a helper, a signal) may be a matrix, and the
+/// two-port then stays whole.
+pub fn scalar_modulus(graph: &Graph, expr: &Expr) -> bool {
+    let param_shape = |expr: &Expr| -> Option<Shape> {
+        let Expr::Path(path) = expr else {
+            return None;
+        };
+        let name = path.path.get_ident()?;
+        graph
+            .params
+            .iter()
+            .find(|p| p.name == *name)
+            .map(|p| p.shape)
+    };
+    match expr {
+        Expr::Lit(lit) => matches!(lit.lit, Lit::Float(_) | Lit::Int(_)),
+        Expr::Path(path) => param_shape(expr) == Some(Shape::Scalar) || path.path.is_ident("t"),
+        Expr::Field(field) => param_shape(&field.base).is_some_and(|s| s != Shape::Scalar),
+        Expr::Paren(inner) => scalar_modulus(graph, &inner.expr),
+        Expr::Group(inner) => scalar_modulus(graph, &inner.expr),
+        Expr::Unary(unary) => {
+            matches!(unary.op, UnOp::Neg(_)) && scalar_modulus(graph, &unary.expr)
+        }
+        Expr::Binary(binary) => {
+            matches!(
+                binary.op,
+                BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_)
+            ) && scalar_modulus(graph, &binary.left)
+                && scalar_modulus(graph, &binary.right)
+        }
+        Expr::MethodCall(call) => {
+            const SCALAR_METHODS: &[&str] = &[
+                "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh",
+                "exp", "ln", "log10", "sqrt", "cbrt", "abs", "powi", "powf", "hypot", "min", "max",
+                "recip",
+            ];
+            SCALAR_METHODS.contains(&call.method.to_string().as_str())
+                && scalar_modulus(graph, &call.receiver)
+                && call
+                    .args
+                    .iter()
+                    .all(|arg| scalar_modulus(graph, arg) || matches!(arg, Expr::Lit(_)))
+        }
+        _ => false,
+    }
 }
 
 /// The dimension of a junction's bonds, or a splitter's.
@@ -259,5 +347,74 @@ mod should {
                 "v__split4: v__split4->mass v__0->v__split4 v__1->v__split4 v__2->v__split4",
             ]
         );
+    }
+
+    #[test]
+    fn take_apart_a_transformer_with_a_scalar_modulus_and_the_junction_beyond() {
+        let graph = resolved(
+            "model M { param n = 2.0; I[3] mass = 1.0; Sf a = 1.0; Sf b = 0.0; Se c = 2.0;
+                       TF lever = 3.0 * n; 1 v; Split[3] s;
+                       a -> s.0; b -> s.1; c -> s.2; s -> lever -> v -> mass; }",
+        );
+        let described = describe(&graph);
+        // Each component of the lever: port 1 from the splitter's component, port 2 to
+        // the 1-junction's component, with the lever's modulus.
+        assert!(
+            described.contains(&"lever__0: s__0->lever__0 lever__0->v__0".to_string()),
+            "{described:#?}"
+        );
+        assert!(
+            described.contains(&"lever__2: s__2->lever__2 lever__2->v__2".to_string()),
+            "{described:#?}"
+        );
+        assert!(described.contains(&"lever: ".to_string()), "{described:#?}");
+        let lever_0 = graph
+            .element_ids()
+            .find(|&id| graph.element(id).name == "lever__0")
+            .unwrap();
+        assert!(matches!(
+            graph.element(lever_0).law,
+            crate::ir::Law::Linear(_)
+        ));
+    }
+
+    #[test]
+    fn keep_a_transformer_whose_modulus_may_be_a_matrix_whole() {
+        let graph = resolved(
+            "model M { param M: Matrix3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                       I[3] mass = 1.0; Sf a = 1.0; Sf b = 0.0; Sf c = 2.0;
+                       MTF lever = M, inverse = M; 1 v; Split[3] s;
+                       a -> s.0; b -> s.1; c -> s.2; s -> lever -> v -> mass; }",
+        );
+        let described = describe(&graph);
+        assert!(
+            described.contains(&"lever: s__split3->lever lever->v".to_string()),
+            "{described:#?}"
+        );
+    }
+
+    #[test]
+    fn tell_a_plain_number_from_what_may_be_a_matrix() {
+        let graph = resolved(
+            "model M { param n = 2.0; param K: [f64; 3] = [1.0, 2.0, 3.0];
+                       param R: Matrix3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                       input u = 0.0; Se s = 1.0; I m = 1.0; s -> m; }",
+        );
+        let scalar = |text: &str| super::scalar_modulus(&graph, &syn::parse_str(text).unwrap());
+        for text in [
+            "2.0",
+            "3",
+            "n",
+            "-n * (0.5 + K.x) / 2.0",
+            "R.m21",
+            "u",
+            "(t * n).sin()",
+            "n.powi(2)",
+        ] {
+            assert!(scalar(text), "{text} is a number");
+        }
+        for text in ["R", "K", "R.transpose()", "diag3(n, n, n)", "m.e", "n * R"] {
+            assert!(!scalar(text), "{text} may be a matrix");
+        }
     }
 }

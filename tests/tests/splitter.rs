@@ -205,3 +205,113 @@ fn the_causal_graph_shows_the_components_and_the_inserted_splitters() {
         .collect();
     assert_eq!(stroke_into_anchor, [false, false, true]);
 }
+
+bond_graph! {
+    /// The anchored mass of [`Anchored`] driven through a lever: a 3-D transformer with
+    /// a scalar ratio between the guide and the anchor. Along x the lever passes on the
+    /// guide's flow (it computes its port 2 flow), along z the guide's push (it computes
+    /// its port 2 effort from the effort on port 1): a scalar TF on a multibond is taken
+    /// apart by component, so its components take these different causalities.
+    pub model Levered {
+        param m = 2.0 in "kg";
+        param k = 50.0 in "N/m";
+        param c = 3.0 in "N·s/m";
+        param cz = 4.0 in "N·s/m";
+        param vx = 0.3 in "m/s";
+        param push = 1.5 in "N";
+        param ratio = 2.5;
+
+        I[3] mass = m;
+        C[3] spring = k;
+        TF lever = ratio;
+        1 v;
+        1 anchor;
+        0 force;
+        1 stretch;
+        Split[3] guide;
+        Split[3] dampers;
+        Sf drive = vx;
+        Sf hold = 0.0;
+        Se pushed = push;
+        R dx = c;
+        R dy = c;
+        R dz = cz;
+
+        drive -> guide.0;
+        hold -> guide.1;
+        pushed -> guide.2;
+        guide -> lever -> anchor -> force -> v -> mass;
+        force -> stretch -> spring;
+        stretch -> dampers;
+        dampers.0 -> dx;
+        dampers.1 -> dy;
+        dampers.2 -> dz;
+
+        output anchor_velocity: Vector3 = anchor.f;
+        output lever_effort_in: Vector3 = lever.e1;
+        output lever_flow_out: Vector3 = lever.f2;
+    }
+}
+
+/// The levered system by hand: a TF of ratio n has `f2 = n f1` and `e1 = n e2`, so the
+/// anchor moves at n vx along x, and along z it is pushed with push / n.
+fn levered_by_hand(p: &LeveredParams, x: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
+    let (momentum, stretch) = (&x[0..3], &x[3..6]);
+    let v_mass: Vec<f64> = momentum.iter().map(|p_i| p_i / p.m).collect();
+    let force_z = p.push / p.ratio;
+    let v_anchor = [
+        p.ratio * p.vx,
+        0.0,
+        v_mass[2] + (force_z - p.k * stretch[2]) / p.cz,
+    ];
+    let damping = [p.c, p.c, p.cz];
+    let mut dx = [0.0; 6];
+    for i in 0..3 {
+        let rate = v_anchor[i] - v_mass[i];
+        dx[i] = p.k * stretch[i] + damping[i] * rate;
+        dx[3 + i] = rate;
+    }
+    (dx, v_anchor)
+}
+
+#[test]
+fn a_scalar_transformer_on_a_multibond_takes_causality_by_component() {
+    let model = Levered::default();
+    let p = &model.params;
+    for x in random_states(100) {
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        let (expected, v_anchor) = levered_by_hand(p, &x);
+        for i in 0..6 {
+            assert!(
+                (dx[i] - expected[i]).abs() <= 1e-13 * expected[i].abs().max(1.0),
+                "component {i} at {x:?}: generated {} vs hand {}",
+                dx[i],
+                expected[i]
+            );
+        }
+        let mut y = [0.0; 9];
+        model.outputs(0.0, &x, &mut y);
+        for i in 0..3 {
+            assert!((y[i] - v_anchor[i]).abs() <= 1e-13, "anchor {i}: {y:?}");
+            // The lever's port 2 flow is the anchor's; its port 1 effort is n times
+            // the force it passes on (push along z).
+            assert!((y[6 + i] - v_anchor[i]).abs() <= 1e-13, "f2 {i}: {y:?}");
+        }
+        assert!((y[5] - p.push).abs() <= 1e-12, "e1_z = push: {y:?}");
+        // Along x and y the force on the anchor is the spring-damper's.
+        let force_x = p.k * x[3] + p.c * (v_anchor[0] - x[0] / p.m);
+        assert!((y[3] - p.ratio * force_x).abs() <= 1e-12 * force_x.abs().max(1.0));
+    }
+    // Power: the lever neither stores nor loses anything.
+    for x in random_states(20) {
+        let balance = model.power_balance(0.0, &x).expect("an account");
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        let rate: f64 = (0..3)
+            .map(|i| x[i] / p.m * dx[i] + p.k * x[3 + i] * dx[3 + i])
+            .sum();
+        let scale = balance.input.abs().max(balance.dissipated.abs()).max(1.0);
+        assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12 * scale);
+    }
+}

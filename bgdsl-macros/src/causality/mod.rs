@@ -570,6 +570,41 @@ impl Scap<'_> {
     }
 }
 
+/// When `first` sits on one component of a split multibond and the conflict meets on
+/// another, the whole-vector elements the split junctions meet (which alone carry an
+/// influence across components), named for the message.
+fn crossed_components(
+    graph: &Graph,
+    first: ElementId,
+    meeting: Option<ElementId>,
+) -> Option<String> {
+    let component = |j: ElementId| {
+        graph
+            .dissolved
+            .iter()
+            .find_map(|d| d.components.iter().position(|&c| c == j))
+    };
+    let attached = graph
+        .element(first)
+        .bonds
+        .first()
+        .map(|&b| graph.bond(b).other(first))?;
+    let (from, at) = (component(attached)?, component(meeting?)?);
+    if from == at {
+        return None;
+    }
+    // The splitters the split stage inserted: their first bond is the whole multibond.
+    let whole: Vec<String> = graph
+        .element_ids()
+        .filter(|&id| graph.element(id).kind == ElementKind::Split && graph.dissolved(id).is_none())
+        .filter_map(|id| {
+            let bond = *graph.element(id).bonds.first()?;
+            Some(graph.describe(graph.bond(bond).other(id)))
+        })
+        .collect();
+    (!whole.is_empty()).then(|| whole.join(", "))
+}
+
 /// Turns a causality mistake into a message at the user's text.
 pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
     let name = |id: ElementId| graph.describe(id);
@@ -608,8 +643,10 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                     "its consequences arrive there by two routes that disagree: the junctions a \
                      splitter takes apart get their components' causalities one by one, but an \
                      element acting on the whole vector (a C, I or R[n] with one law, a source, a \
-                     TF) takes one causality for all its components; write that element as scalar \
-                     elements behind a splitter"
+                     TF or GY whose modulus may be a matrix) takes one causality for all its \
+                     components; write that element as scalar elements behind a splitter (a TF \
+                     or GY whose modulus is a plain number, such as `TF lever = n;` with an f64 \
+                     `n`, is taken apart by component)"
                 } else {
                     "its consequences come back around a loop of junctions, TFs and GYs with the \
                      opposite causality; break the loop with a storage or a resistive element"
@@ -619,6 +656,17 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                     format!("causal conflict{place}: {} cannot impose its {what}: {why}", name(*second)),
                 );
             }
+            let mend = match crossed_components(graph, *first, meeting) {
+                Some(whole) => format!(
+                    "{} acts on another component of the split multibond and reaches this one only \
+                     through {whole}, which acts on the whole vector and so takes one causality for \
+                     all its components (a C, I or R[n] with one law, a source, or a TF or GY whose \
+                     modulus may be a matrix: only a plain-number modulus is taken apart by \
+                     component); write that element as scalar elements behind a splitter",
+                    name(*first)
+                ),
+                None => mend.to_string(),
+            };
             let mut e = syn::Error::new(
                 span(*second),
                 format!(

@@ -1,7 +1,8 @@
 // The anchor is driven along x and y but pushed along z, so along z the damper must
 // compute the stretch rate from the force while along x and y it computes the force:
 // an R[3] acts on the whole vector and takes one causality. (Three scalar dampers
-// behind a second splitter work: see tests/tests/splitter.rs.)
+// behind a second splitter work: see tests/tests/splitter.rs; a TF with a plain-number
+// ratio needs no such rewriting, it is taken apart by component.)
 use bgdsl_runtime::bond_graph;
 
 bond_graph! {
