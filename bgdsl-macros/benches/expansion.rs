@@ -13,6 +13,8 @@
 mod causality;
 #[path = "../src/codegen.rs"]
 mod codegen;
+#[path = "../src/compliance.rs"]
+mod compliance;
 #[path = "../src/dims.rs"]
 mod dims;
 #[path = "../src/equations.rs"]

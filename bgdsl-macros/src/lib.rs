@@ -10,6 +10,7 @@
 
 mod causality;
 mod codegen;
+mod compliance;
 mod dims;
 mod equations;
 mod errors;
@@ -199,7 +200,9 @@ mod units;
 /// source makes it a sink). The same holds for multibond sources and sources on a
 /// splitter's components. A C's linear law is a stiffness: a shaft of stiffness
 /// `k_shaft` is `C shaft = k_shaft;`, not `1.0 / k_shaft` (20-sim's and BondLib's
-/// compliance).
+/// compliance). The compiler warns about `C shaft = 1.0 / x;` when `x` is a stiffness:
+/// a parameter in N/m or N·m/rad, or, with no unit, named like one (`k`, `k_shaft`,
+/// `K01`, `stiffness`); a capacitor's `1.0 / capacitance` is its stiffness and is right.
 ///
 /// A linear law is inverted when causality needs it (an R that must compute its flow
 /// uses `f = e / r`). An explicit law is used only in the form given: an R whose

@@ -72,6 +72,9 @@ pub fn check(graph: &Graph, equations: &Equations) -> Units {
     scope
         .names
         .insert("t".to_string(), (String::from("s"), seconds()));
+    for (span, message) in crate::compliance::suspicious(graph) {
+        warnings.push(span, message);
+    }
 
     let states = equations
         .states
