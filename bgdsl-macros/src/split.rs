@@ -379,6 +379,20 @@ mod should {
     }
 
     #[test]
+    fn take_apart_a_gyrator_with_a_scalar_modulus_keeping_port_1_first() {
+        // Port 2 is written first: each component still takes port 1 first.
+        let graph = resolved(
+            "model M { I[3] mass = 1.0; Sf a = 1.0; Sf b = 0.0; Se c = 2.0; GY g = 0.5; 1 v;
+                       Split[3] s; g -> v -> mass; a -> s.0; b -> s.1; c -> s.2; s -> g; }",
+        );
+        let described = describe(&graph);
+        assert!(
+            described.contains(&"g__1: s__1->g__1 g__1->v__1".to_string()),
+            "{described:#?}"
+        );
+    }
+
+    #[test]
     fn keep_a_transformer_whose_modulus_may_be_a_matrix_whole() {
         let graph = resolved(
             "model M { param M: Matrix3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
