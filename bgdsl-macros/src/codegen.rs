@@ -852,9 +852,11 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
                 let parts = parts.iter().map(|part| part.ident(span));
                 quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
             }
-            Rhs::Scaled { term, modulus, op } => {
-                let term = term_tokens(*term, span);
+            Rhs::Scaled { term: scaled, modulus, op } => {
+                let term = term_tokens(*scaled, span);
+                let input = equations.shape_of(graph, scaled.signal);
                 match (shape, op) {
+                    _ if input != shape => non_square(shape, input, *op, modulus, term),
                     (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => quote_spanned!(span=> #term * (#modulus)),
                     (Shape::Scalar, Op::Solve | Op::SolveTranspose) => quote_spanned!(span=> #term / (#modulus)),
                     (shape, op) => {
@@ -878,6 +880,36 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
         #(#states)*
         #(#assignments)*
     }
+}
+
+/// A two-port between bonds of different dimensions: its modulus must be an r×c matrix
+/// (`f2 = M f1`, `e1 = Mᵀ e2`), bound with that type at the user's expression so that
+/// a modulus of another shape is a type error there, naming the shape expected.
+fn non_square(
+    output: Shape,
+    input: Shape,
+    op: Op,
+    modulus: &Expr,
+    term: TokenStream,
+) -> TokenStream {
+    let rt = quote!(::bgdsl_runtime::multibond);
+    let (out_len, in_len) = (output.len(), input.len());
+    let (rows, columns, apply) = match op {
+        Op::ApplyTranspose => (in_len, out_len, quote!(__modulus.transpose())),
+        // Solving is refused for a non-square modulus when equations are derived.
+        _ => (out_len, in_len, quote!(__modulus)),
+    };
+    let column = match input {
+        Shape::Scalar => quote!(#rt::SVector::<Scalar, 1>::new(#term)),
+        _ => term,
+    };
+    let product = quote!((#apply * #column));
+    let value = match output {
+        Shape::Scalar => quote!(#product[0]),
+        _ => product,
+    };
+    let typed = quote_spanned!(syn::spanned::Spanned::span(modulus)=> let __modulus: #rt::SMatrix<Scalar, #rows, #columns> = #modulus;);
+    quote!({ #typed #value })
 }
 
 fn sum(terms: &[Term], span: Span) -> TokenStream {

@@ -373,8 +373,14 @@ impl Builder<'_> {
                     (_, true) => [(f2, e1, SolveTranspose), (f1, e2, Solve)],
                     (_, false) => [(e1, f2, ApplyTranspose), (e2, f1, Apply)],
                 };
-                let multibond = graph.bond_dims[b1.0] > 1;
+                let (n1, n2) = (graph.bond_dims[b1.0], graph.bond_dims[b2.0]);
+                let multibond = n1 > 1;
                 let inverts = receives_e1;
+                if inverts && n1 != n2 {
+                    self.errors
+                        .at(element.name.span(), non_square_inverse(graph, id, n1, n2));
+                    return;
+                }
                 match (&element.inverse, multibond && inverts) {
                     // A matrix modulus is inverted only through the inverse the law gives.
                     (Some(inverse), true) => {
@@ -521,6 +527,38 @@ impl Builder<'_> {
         }
         self.push(summed(setter), id, Rhs::Sum(terms), Vec::new());
     }
+}
+
+/// A two-port between bonds of different dimensions whose causality would need its
+/// modulus inverted: an n₂×n₁ matrix with n₁ ≠ n₂ has no inverse.
+fn non_square_inverse(graph: &Graph, id: ElementId, n1: usize, n2: usize) -> String {
+    let element = graph.element(id);
+    let bonds = &element.bonds;
+    let meets = |port: usize| graph.describe(graph.bond(bonds[port]).other(id));
+    let size = |n: usize| match n {
+        1 => "scalar".to_string(),
+        n => format!("{n}-dimensional"),
+    };
+    format!(
+        "{} joins a {} bond at port 1 (from {}) to a {} bond at port 2 (to {}), so its modulus \
+         is a {n2}×{n1} matrix, which has no inverse; but its causality has it receive the \
+         effort on port 1, so it would have to compute port 2's effort and port 1's flow \
+         backwards{}\n\
+         help: let port 2's side set the effort (a storage element or resistor there, not \
+         a source of effort at port 1); to push a 3-D junction along `n` with a scalar \
+         force, bond the junction to port 1 and the force to port 2 through the transposed \
+         modulus (`MTF proj = n.transpose();`: f2 = nᵀ v, e1 = n F)",
+        graph.describe(id),
+        size(n1),
+        meets(0),
+        size(n2),
+        meets(1),
+        if element.inverse.is_some() {
+            " (an `inverse = ...` cannot help: only a square modulus has one)"
+        } else {
+            ""
+        },
+    )
 }
 
 /// Orders the equations so each follows what it reads (Kahn's algorithm, always

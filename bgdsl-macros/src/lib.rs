@@ -24,6 +24,7 @@ mod split;
 mod stdlib;
 mod syntax;
 mod units;
+mod value_shape;
 
 /// Compiles a textual bond graph into a simulation model.
 ///
