@@ -322,6 +322,10 @@ fn mismatch(graph: &Graph, errors: &mut Errors, claim: Claim, first: Claim) {
         ),
     };
     let why = explain(graph, first);
+    let junction = matches!(
+        graph.element(meets_id).kind,
+        ElementKind::Zero | ElementKind::One
+    );
     let help = if claim.origin == Origin::Undeclared && is_one_port(element.kind) {
         let name = crate::flatten::display(&element.name.to_string());
         format!(
@@ -333,14 +337,23 @@ fn mismatch(graph: &Graph, errors: &mut Errors, claim: Claim, first: Claim) {
             element.kind.word(),
         )
     } else {
+        let mend = if junction {
+            format!("give the elements meeting at {meets} one dimension (`[{other}]` here)")
+        } else {
+            "declare both ends of the bond alike".to_string()
+        };
         format!(
             "every bond at a junction, and both ports of a TF or GY with a number for modulus, \
              have one dimension\n\
-             help: give the elements meeting at {meets} one dimension (`[{other}]` here), or \
-             put between them a splitter (`Split[n]`: a multibond and its scalar components) \
-             or an MTF whose modulus is an r×c matrix (it takes a c-dimensional bond to an \
-             r-dimensional one)"
+             help: {mend}, or put between them a splitter (`Split[n]`: a multibond and its \
+             scalar components) or an MTF whose modulus is an r×c matrix (it takes a \
+             c-dimensional bond to an r-dimensional one)"
         )
+    };
+    let meeting = if meets_id == first.element {
+        format!("it is bonded to {meets}, which is {}", size(other))
+    } else {
+        format!("it meets {meets}, whose bonds are {} ({why})", size(other))
     };
     let span = match (claim.origin, element.dimension) {
         (Origin::Declared, Some((_, span))) if claim.component.is_none() => span,
@@ -348,10 +361,7 @@ fn mismatch(graph: &Graph, errors: &mut Errors, claim: Claim, first: Claim) {
     };
     errors.with_note(
         span,
-        format!(
-            "dimension mismatch: {what}, but it meets {meets}, whose bonds are {} ({why}); {help}",
-            size(other)
-        ),
+        format!("dimension mismatch: {what}, but {meeting}; {help}"),
         graph.element(first.element).name.span(),
         format!("{why} here"),
     );

@@ -99,8 +99,23 @@ pub struct Equation {
     pub deps: Vec<Signal>,
 }
 
+/// A two-port whose law gives the inverse of its modulus: checked on numbers, since
+/// the compiler cannot tell whether it is one.
+pub struct InverseCheck {
+    /// The TF or GY.
+    pub element: ElementId,
+    /// Its modulus, rewritten.
+    pub modulus: Expr,
+    /// The inverse its law gives, rewritten.
+    pub inverse: Expr,
+    /// The dimension of its bonds (the modulus is a number or a square matrix).
+    pub dimension: usize,
+}
+
 /// Everything the code generator needs to write the model's functions.
 pub struct Equations {
+    /// The two-ports whose given inverse is checked.
+    pub inverses: Vec<InverseCheck>,
     /// States in order of the state vector (storage elements in declaration order).
     pub states: Vec<State>,
     /// Assignments in an order where each comes after what it reads.
@@ -228,11 +243,13 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         kinematic_state: &kinematic_state,
         errors: &mut errors,
         equations: Vec::new(),
+        inverses: Vec::new(),
     };
     for id in graph.element_ids() {
         builder.element(id);
     }
     let equations = builder.equations;
+    let inverses = builder.inverses;
     let outputs = graph
         .outputs
         .iter()
@@ -248,6 +265,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
     errors.finish()?;
     let ordered = order(graph, equations)?;
     Ok(Equations {
+        inverses,
         states,
         ordered,
         outputs,
@@ -261,6 +279,7 @@ struct Builder<'a> {
     kinematic_state: &'a [usize],
     errors: &'a mut Errors,
     equations: Vec<Equation>,
+    inverses: Vec<InverseCheck>,
 }
 
 impl Builder<'_> {
@@ -380,6 +399,22 @@ impl Builder<'_> {
                     self.errors
                         .at(element.name.span(), non_square_inverse(graph, id, n1, n2));
                     return;
+                }
+                if let Some(inverse) = &element.inverse {
+                    // Rewritten again for the check: any mistake in them is reported
+                    // by the rewriting for the equations.
+                    let mut quiet = Errors::default();
+                    let scope = Scope {
+                        graph,
+                        state_of: self.state_of,
+                        kinematic_state: self.kinematic_state,
+                    };
+                    self.inverses.push(InverseCheck {
+                        element: id,
+                        modulus: rewrite(modulus, &scope, &mut quiet).expr,
+                        inverse: rewrite(inverse, &scope, &mut quiet).expr,
+                        dimension: n1,
+                    });
                 }
                 match (&element.inverse, multibond && inverts) {
                     // A matrix modulus is inverted only through the inverse the law gives.

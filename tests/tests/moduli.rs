@@ -207,3 +207,94 @@ fn gyrate_between_a_3d_bond_and_a_scalar_one() {
     );
     assert!((dx[3] - n.dot(&p) / params.m).abs() < 1e-14, "{dx:?}");
 }
+
+bond_graph! {
+    /// A force given in frame 0 pushing a mass whose momentum is kept in a frame turned
+    /// by θ about z: the MTF's modulus is R(θ)ᵀ, and the force at port 1 makes it run
+    /// backwards through the inverse its law gives, R(θ + wrong). With `wrong = 0`
+    /// that is the inverse; otherwise it is not.
+    pub model TurnedFrame {
+        param theta = 0.4;
+        /// how far the given inverse is turned from the true one, rad
+        param wrong = 0.0;
+        param m = 2.0;
+        param F: Vector3 = [1.0, 2.0, 3.0];
+
+        Se push = F;
+        MTF to_frame = rot_z(theta).transpose(), inverse = rot_z(theta + wrong);
+        I[3] mass = m;
+        1 w;
+
+        push -> to_frame -> w -> mass;
+    }
+}
+
+use bgdsl_runtime::multibond::rot_z;
+use bgdsl_runtime::{ModelError, Simulation, SolverError};
+
+fn turned_frame(wrong: f64) -> TurnedFrame {
+    TurnedFrame::new(TurnedFrameParams {
+        wrong,
+        ..Default::default()
+    })
+}
+
+/// A right inverse passes the check, and the mass feels e₂ = M⁻ᵀ e₁ = R(θ)ᵀ F.
+#[test]
+fn accept_an_inverse_that_is_one() {
+    let model = turned_frame(0.0);
+    let x0 = initial_state(&model);
+    assert_eq!(model.check(0.0, &x0), Ok(()));
+    let mut dx = [0.0; 3];
+    model.derivatives(0.0, &x0, &mut dx);
+    let expected = rot_z(0.4).transpose() * vec3(1.0, 2.0, 3.0);
+    assert!(
+        (vec3(dx[0], dx[1], dx[2]) - expected).norm() < 1e-14,
+        "{dx:?}"
+    );
+    let (trajectory, _) = run(&model, dopri5(1e-9, 1e-12), &x0, 0.2, 3);
+    assert_eq!(trajectory.times().len(), 3);
+}
+
+/// A wrong inverse compiles (the compiler cannot tell), but the check before a run
+/// refuses it, naming the element, the time and ‖M X − I‖ = ‖R(θ)ᵀ R(θ + δ) − I‖ =
+/// ‖R(δ) − I‖ = 2 √(1 − cos δ).
+#[test]
+fn refuse_a_wrong_inverse_before_the_run_starts() {
+    let model = turned_frame(0.5);
+    let x0 = initial_state(&model);
+    let expected = 2.0 * (1.0 - 0.5_f64.cos()).sqrt();
+    match model.check(0.0, &x0) {
+        Err(ModelError::WrongInverse {
+            element,
+            t,
+            residual,
+        }) => {
+            assert_eq!((element, t), ("to_frame", 0.0));
+            assert!((residual - expected).abs() < 1e-14, "{residual}");
+        }
+        other => panic!("expected a wrong inverse, got {other:?}"),
+    }
+    let mut simulation = Simulation::new(&model, dopri5(1e-9, 1e-12)).unwrap();
+    let error = simulation
+        .run_uniform(0.0, &x0, 0.2, 3, &mut ())
+        .unwrap_err();
+    assert!(matches!(error, SolverError::InvalidModel(_)), "{error:?}");
+    let message = error.to_string();
+    assert!(
+        message.contains("the inverse given for the modulus of `to_frame` is not its inverse"),
+        "{message}"
+    );
+}
+
+/// In a debug build every evaluation of the derivatives in `f64` checks it too.
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(
+    expected = "at t = 0.25, the inverse given for the modulus of `to_frame` is not its inverse"
+)]
+fn assert_a_wrong_inverse_at_every_use_in_debug_builds() {
+    let model = turned_frame(0.5);
+    let mut dx = [0.0; 3];
+    model.derivatives(0.25, &[0.0; 3], &mut dx);
+}
