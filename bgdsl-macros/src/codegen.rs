@@ -888,7 +888,8 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
 
 /// The checks of the inverses two-ports' laws give: `Model::check` (every residual
 /// ‖M X − I‖ at a state, in `f64`) and, for the derivatives in debug builds, the same
-/// as an assertion when they are evaluated in `f64`. Both empty when no law gives one.
+/// as an assertion for each inverse they compute with, when they are evaluated in
+/// `f64`. Both empty when no law gives one.
 fn inverse_checks(
     graph: &Graph,
     equations: &Equations,
@@ -898,7 +899,7 @@ fn inverse_checks(
         return (TokenStream::new(), TokenStream::new());
     }
     let rt = quote!(::bgdsl_runtime);
-    let residuals: Vec<(TokenStream, TokenStream)> = equations
+    let residuals: Vec<(bool, TokenStream, TokenStream)> = equations
         .inverses
         .iter()
         .map(|check| {
@@ -906,10 +907,10 @@ fn inverse_checks(
             let name = crate::flatten::display(&graph.element(check.element).name.to_string());
             let residual = quote!(#rt::multibond::inverse_residual::<Scalar, #n>(&(#modulus), &(#inverse)));
             let error = quote!(#rt::ModelError::WrongInverse { element: #name, t: __t, residual: __residual });
-            (residual, error)
+            (check.used, residual, error)
         })
         .collect();
-    let returns = residuals.iter().map(|(residual, error)| {
+    let returns = residuals.iter().map(|(_, residual, error)| {
         quote! {
             let __residual = #residual;
             if __residual > #rt::ModelError::INVERSE_TOLERANCE {
@@ -926,12 +927,15 @@ fn inverse_checks(
             ::core::result::Result::Ok(())
         }
     };
-    let asserts = residuals.iter().map(|(residual, error)| {
-        quote! {
-            let __residual = #residual;
-            ::core::assert!(!(__residual > #rt::ModelError::INVERSE_TOLERANCE), "{}", #error);
-        }
-    });
+    let asserts = residuals
+        .iter()
+        .filter(|(used, ..)| *used)
+        .map(|(_, residual, error)| {
+            quote! {
+                let __residual = #residual;
+                ::core::assert!(!(__residual > #rt::ModelError::INVERSE_TOLERANCE), "{}", #error);
+            }
+        });
     let debug = quote! {
         #[cfg(debug_assertions)]
         if ::core::any::TypeId::of::<Scalar>() == ::core::any::TypeId::of::<::core::primitive::f64>() {

@@ -52,11 +52,13 @@ struct Claim {
     origin: Origin,
 }
 
-/// A two-port that does not join its bonds: what its modulus looks like.
+/// A two-port: what its modulus looks like, and whether it joins its bonds into one
+/// dimension.
 struct TwoPort {
     element: ElementId,
     ports: (BondId, BondId),
     modulus: Option<ValueShape>,
+    joins: bool,
 }
 
 fn is_one_port(kind: ElementKind) -> bool {
@@ -108,14 +110,13 @@ pub fn infer(graph: &mut Graph, errors: &mut Errors) {
             ElementKind::Zero | ElementKind::One => true,
             ElementKind::Tf | ElementKind::Gy => {
                 let shape = modulus(graph, id).and_then(|m| value_shape::infer(m, graph));
-                let joins = element.dimension.is_some()
-                    || shape == Some(ValueShape::Number)
-                    || element.bonds.len() != 2;
-                if !joins {
+                let joins = element.dimension.is_some() || shape == Some(ValueShape::Number);
+                if let [b1, b2] = element.bonds[..] {
                     two_ports.push(TwoPort {
                         element: id,
-                        ports: (element.bonds[0], element.bonds[1]),
+                        ports: (b1, b2),
                         modulus: shape,
+                        joins,
                     });
                 }
                 joins
@@ -207,7 +208,7 @@ pub fn infer(graph: &mut Graph, errors: &mut Errors) {
 fn across_two_ports(groups: &mut Groups, fixed: &mut [Option<Claim>], two_ports: &[TwoPort]) {
     loop {
         let mut changed = false;
-        for two_port in two_ports {
+        for two_port in two_ports.iter().filter(|two_port| !two_port.joins) {
             let (b1, b2) = two_port.ports;
             let (r1, r2) = (groups.find(b1), groups.find(b2));
             let known = |r: BondId| fixed[r.0].map(|claim| claim.dimension);
@@ -335,6 +336,12 @@ fn mismatch(graph: &Graph, errors: &mut Errors, claim: Claim, first: Claim) {
              to act along one direction `n` only, put a projection between {meets} and it: \
              `MTF proj = n.transpose();` with `param n: Vector3`",
             element.kind.word(),
+        )
+    } else if let Some(i) = claim.component {
+        let name = crate::flatten::display(&element.name.to_string());
+        format!(
+            "a splitter's components are scalar\n\
+             help: bond `{name}.{i}` to a scalar element, and a multibond to `{name}` itself"
         )
     } else {
         let mend = if junction {
@@ -495,6 +502,21 @@ mod should {
         );
         assert!(
             errors[0].contains("but this is a 3×1 matrix (a 3-vector)"),
+            "{errors:?}"
+        );
+    }
+
+    #[test]
+    fn report_a_rectangular_modulus_on_a_two_port_declared_square() {
+        let errors = dims(
+            "model M { param n: Vector3 = [0.0, 0.0, 1.0];
+                       I[3] m = 1.0; 1 v; MTF[3] proj = n.transpose(); C[3] k = 1.0;
+                       v -> { m, proj }; proj -> k; }",
+        )
+        .unwrap_err();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(
+            errors[0].contains("so its modulus must be a number or a 3×3 matrix"),
             "{errors:?}"
         );
     }

@@ -110,6 +110,9 @@ pub struct InverseCheck {
     pub inverse: Expr,
     /// The dimension of its bonds (the modulus is a number or a square matrix).
     pub dimension: usize,
+    /// Whether the equations compute with the inverse (causality runs the two-port
+    /// backwards on a multibond); if not, it is checked before a run only.
+    pub used: bool,
 }
 
 /// Everything the code generator needs to write the model's functions.
@@ -414,6 +417,7 @@ impl Builder<'_> {
                         modulus: rewrite(modulus, &scope, &mut quiet).expr,
                         inverse: rewrite(inverse, &scope, &mut quiet).expr,
                         dimension: n1,
+                        used: multibond && inverts,
                     });
                 }
                 match (&element.inverse, multibond && inverts) {

@@ -112,10 +112,11 @@ pub trait Model {
     /// Checks what the compiler could not: for a generated model, that each inverse a
     /// two-port's law gives (`MTF frame = M, inverse = X;`) is the inverse of its
     /// modulus at `(t, x)`, to [`ModelError::INVERSE_TOLERANCE`]. A run checks its
-    /// starting point ([`Simulation`](crate::Simulation), hence the `models` program;
-    /// an FMU on leaving initialisation); a debug build also checks at every
-    /// evaluation of the derivatives in `f64` and panics there. The default accepts
-    /// everything.
+    /// starting point ([`Simulation`](crate::Simulation), hence the `models` program
+    /// and each [`Stepper`](crate::Stepper) advance; an FMU on leaving
+    /// initialisation); a debug build also checks each inverse the equations compute
+    /// with at every evaluation of the derivatives in `f64`, and panics there. The
+    /// default accepts everything.
     ///
     /// # Errors
     ///
@@ -143,10 +144,13 @@ pub enum ModelError {
 }
 
 impl ModelError {
-    /// The largest ‖M X − I‖ accepted. A wrong inverse is off by order one; an inverse
-    /// that depends on an integrated state (the transpose of a rotation) drifts from
-    /// the exact one by the integration error only, far below this.
-    pub const INVERSE_TOLERANCE: f64 = 1e-6;
+    /// The largest ‖M X − I‖ accepted. A wrong inverse is off by order one (by about
+    /// 1.4 times the angle between two rotations taken for each other); an inverse
+    /// that is exact only on the states a model reaches (the transpose of a rotation
+    /// matrix held in a state) is off by how far a state strays from them: the
+    /// integration error (measured up to 3.4e-4 in a run of the flagship made to
+    /// fail), a finite-difference step (about 1e-5 of the state's scale), below this.
+    pub const INVERSE_TOLERANCE: f64 = 1e-3;
 }
 
 impl core::fmt::Display for ModelError {
