@@ -43,6 +43,8 @@ mod stdlib;
 mod syntax;
 #[path = "../src/units.rs"]
 mod units;
+#[path = "../src/value_shape.rs"]
+mod value_shape;
 
 use std::hint::black_box;
 use std::str::FromStr;

@@ -108,6 +108,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     );
     let graph_const = graph_description(graph, causality);
     let body = evaluation_body(graph, equations);
+    let (check_inverses, debug_inverses) = inverse_checks(graph, equations, &body);
     let power = crate::power::account(graph, equations);
     let scalar = quote!(Scalar);
     let state_offsets = equations.offsets();
@@ -223,6 +224,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
                 #body
+                #debug_inverses
                 #(#derivatives)*
             }
 
@@ -248,6 +250,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             fn causal_graph(&self) -> ::core::option::Option<&'static ::bgdsl_runtime::CausalGraph> {
                 ::core::option::Option::Some(&Self::GRAPH)
             }
+
+            #check_inverses
         }
 
         #with_inputs
@@ -852,9 +856,11 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
                 let parts = parts.iter().map(|part| part.ident(span));
                 quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
             }
-            Rhs::Scaled { term, modulus, op } => {
-                let term = term_tokens(*term, span);
+            Rhs::Scaled { term: scaled, modulus, op } => {
+                let term = term_tokens(*scaled, span);
+                let input = equations.shape_of(graph, scaled.signal);
                 match (shape, op) {
+                    _ if input != shape => non_square(shape, input, *op, modulus, term),
                     (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => quote_spanned!(span=> #term * (#modulus)),
                     (Shape::Scalar, Op::Solve | Op::SolveTranspose) => quote_spanned!(span=> #term / (#modulus)),
                     (shape, op) => {
@@ -878,6 +884,96 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
         #(#states)*
         #(#assignments)*
     }
+}
+
+/// The checks of the inverses two-ports' laws give: `Model::check` (every residual
+/// ‖M X − I‖ at a state, in `f64`) and, for the derivatives in debug builds, the same
+/// as an assertion for each inverse they compute with, when they are evaluated in
+/// `f64`. Both empty when no law gives one.
+fn inverse_checks(
+    graph: &Graph,
+    equations: &Equations,
+    body: &TokenStream,
+) -> (TokenStream, TokenStream) {
+    if equations.inverses.is_empty() {
+        return (TokenStream::new(), TokenStream::new());
+    }
+    let rt = quote!(::bgdsl_runtime);
+    let residuals: Vec<(bool, TokenStream, TokenStream)> = equations
+        .inverses
+        .iter()
+        .map(|check| {
+            let (modulus, inverse, n) = (&check.modulus, &check.inverse, check.dimension);
+            let name = crate::flatten::display(&graph.element(check.element).name.to_string());
+            let residual = quote!(#rt::multibond::inverse_residual::<Scalar, #n>(&(#modulus), &(#inverse)));
+            let error = quote!(#rt::ModelError::WrongInverse { element: #name, t: __t, residual: __residual });
+            (check.used, residual, error)
+        })
+        .collect();
+    let returns = residuals.iter().map(|(_, residual, error)| {
+        quote! {
+            let __residual = #residual;
+            if __residual > #rt::ModelError::INVERSE_TOLERANCE {
+                return ::core::result::Result::Err(#error);
+            }
+        }
+    });
+    let check = quote! {
+        #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
+        fn check(&self, __t: ::core::primitive::f64, __x: &[::core::primitive::f64]) -> ::core::result::Result<(), #rt::ModelError> {
+            type Scalar = ::core::primitive::f64;
+            #body
+            #(#returns)*
+            ::core::result::Result::Ok(())
+        }
+    };
+    let asserts = residuals
+        .iter()
+        .filter(|(used, ..)| *used)
+        .map(|(_, residual, error)| {
+            quote! {
+                let __residual = #residual;
+                ::core::assert!(!(__residual > #rt::ModelError::INVERSE_TOLERANCE), "{}", #error);
+            }
+        });
+    let debug = quote! {
+        #[cfg(debug_assertions)]
+        if ::core::any::TypeId::of::<Scalar>() == ::core::any::TypeId::of::<::core::primitive::f64>() {
+            #(#asserts)*
+        }
+    };
+    (check, debug)
+}
+
+/// A two-port between bonds of different dimensions: its modulus must be an r×c matrix
+/// (`f2 = M f1`, `e1 = Mᵀ e2`), bound with that type at the user's expression so that
+/// a modulus of another shape is a type error there, naming the shape expected.
+fn non_square(
+    output: Shape,
+    input: Shape,
+    op: Op,
+    modulus: &Expr,
+    term: TokenStream,
+) -> TokenStream {
+    let rt = quote!(::bgdsl_runtime::multibond);
+    let (out_len, in_len) = (output.len(), input.len());
+    let (rows, columns, apply) = match op {
+        Op::ApplyTranspose => (in_len, out_len, quote!(__modulus.transpose())),
+        // Solving is refused for a non-square modulus when equations are derived.
+        _ => (out_len, in_len, quote!(__modulus)),
+    };
+    let column = match input {
+        Shape::Scalar => quote!(#rt::SVector::<Scalar, 1>::new(#term)),
+        _ => term,
+    };
+    let product = quote!((#apply * #column));
+    let value = match output {
+        Shape::Scalar => quote!(#product[0]),
+        _ => product,
+    };
+    let at = syn::spanned::Spanned::span(modulus);
+    let typed = quote_spanned!(at=> let __modulus: ::bgdsl_runtime::multibond::SMatrix<Scalar, #rows, #columns> = #modulus;);
+    quote!({ #typed #value })
 }
 
 fn sum(terms: &[Term], span: Span) -> TokenStream {

@@ -99,8 +99,26 @@ pub struct Equation {
     pub deps: Vec<Signal>,
 }
 
+/// A two-port whose law gives the inverse of its modulus: checked on numbers, since
+/// the compiler cannot tell whether it is one.
+pub struct InverseCheck {
+    /// The TF or GY.
+    pub element: ElementId,
+    /// Its modulus, rewritten.
+    pub modulus: Expr,
+    /// The inverse its law gives, rewritten.
+    pub inverse: Expr,
+    /// The dimension of its bonds (the modulus is a number or a square matrix).
+    pub dimension: usize,
+    /// Whether the equations compute with the inverse (causality runs the two-port
+    /// backwards on a multibond); if not, it is checked before a run only.
+    pub used: bool,
+}
+
 /// Everything the code generator needs to write the model's functions.
 pub struct Equations {
+    /// The two-ports whose given inverse is checked.
+    pub inverses: Vec<InverseCheck>,
     /// States in order of the state vector (storage elements in declaration order).
     pub states: Vec<State>,
     /// Assignments in an order where each comes after what it reads.
@@ -228,11 +246,13 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         kinematic_state: &kinematic_state,
         errors: &mut errors,
         equations: Vec::new(),
+        inverses: Vec::new(),
     };
     for id in graph.element_ids() {
         builder.element(id);
     }
     let equations = builder.equations;
+    let inverses = builder.inverses;
     let outputs = graph
         .outputs
         .iter()
@@ -248,6 +268,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
     errors.finish()?;
     let ordered = order(graph, equations)?;
     Ok(Equations {
+        inverses,
         states,
         ordered,
         outputs,
@@ -261,6 +282,7 @@ struct Builder<'a> {
     kinematic_state: &'a [usize],
     errors: &'a mut Errors,
     equations: Vec<Equation>,
+    inverses: Vec<InverseCheck>,
 }
 
 impl Builder<'_> {
@@ -378,8 +400,31 @@ impl Builder<'_> {
                     (_, true) => [(f2, e1, SolveTranspose), (f1, e2, Solve)],
                     (_, false) => [(e1, f2, ApplyTranspose), (e2, f1, Apply)],
                 };
-                let multibond = graph.bond_dims[b1.0] > 1;
+                let (n1, n2) = (graph.bond_dims[b1.0], graph.bond_dims[b2.0]);
+                let multibond = n1 > 1;
                 let inverts = receives_e1;
+                if inverts && n1 != n2 {
+                    self.errors
+                        .at(element.name.span(), non_square_inverse(graph, id, n1, n2));
+                    return;
+                }
+                if let Some(inverse) = &element.inverse {
+                    // Rewritten again for the check: any mistake in them is reported
+                    // by the rewriting for the equations.
+                    let mut quiet = Errors::default();
+                    let scope = Scope {
+                        graph,
+                        state_of: self.state_of,
+                        kinematic_state: self.kinematic_state,
+                    };
+                    self.inverses.push(InverseCheck {
+                        element: id,
+                        modulus: rewrite(modulus, &scope, &mut quiet).expr,
+                        inverse: rewrite(inverse, &scope, &mut quiet).expr,
+                        dimension: n1,
+                        used: multibond && inverts,
+                    });
+                }
                 match (&element.inverse, multibond && inverts) {
                     // A matrix modulus is inverted only through the inverse the law gives.
                     (Some(inverse), true) => {
@@ -526,6 +571,38 @@ impl Builder<'_> {
         }
         self.push(summed(setter), id, Rhs::Sum(terms), Vec::new());
     }
+}
+
+/// A two-port between bonds of different dimensions whose causality would need its
+/// modulus inverted: an n₂×n₁ matrix with n₁ ≠ n₂ has no inverse.
+fn non_square_inverse(graph: &Graph, id: ElementId, n1: usize, n2: usize) -> String {
+    let element = graph.element(id);
+    let bonds = &element.bonds;
+    let meets = |port: usize| graph.describe(graph.bond(bonds[port]).other(id));
+    let size = |n: usize| match n {
+        1 => "scalar".to_string(),
+        n => format!("{n}-dimensional"),
+    };
+    format!(
+        "{} joins a {} bond at port 1 (from {}) to a {} bond at port 2 (to {}), so its modulus \
+         is a {n2}×{n1} matrix, which has no inverse; but its causality has it receive the \
+         effort on port 1, so it would have to compute port 2's effort and port 1's flow \
+         backwards{}\n\
+         help: let port 2's side set the effort (a storage element or resistor there, not \
+         a source of effort at port 1); to push a 3-D junction along `n` with a scalar \
+         force, bond the junction to port 1 and the force to port 2 through the transposed \
+         modulus (`MTF proj = n.transpose();`: f2 = nᵀ v, e1 = n F)",
+        graph.describe(id),
+        size(n1),
+        meets(0),
+        size(n2),
+        meets(1),
+        if element.inverse.is_some() {
+            " (an `inverse = ...` cannot help: only a square modulus has one)"
+        } else {
+            ""
+        },
+    )
 }
 
 /// Orders the equations so each follows what it reads (Kahn's algorithm, always

@@ -25,6 +25,7 @@ mod split;
 mod stdlib;
 mod syntax;
 mod units;
+mod value_shape;
 
 /// Compiles a textual bond graph into a simulation model.
 ///
@@ -101,15 +102,31 @@ mod units;
 ///
 /// ## Multibonds
 ///
-/// A bond's dimension is inferred: bonds meeting at a junction, and both ports of a TF
-/// or GY, share one; an element written `I[3]` fixes it; what nothing fixes is scalar.
+/// Bonds meeting at a junction share one dimension; an element written `I[3]` fixes it;
+/// what nothing fixes is scalar. A one-port (Se, Sf, C, I, R) never takes a dimension
+/// from the junction it meets: it has its own `[n]`, else the one its law visibly has
+/// (`Se push = vec3(..)`, `C k = diag3(..)`, a coefficient parameter declared `Vector3`
+/// or `Matrix3`), else it is scalar, and a scalar one-port on a 3-D junction is an error
+/// naming the junction, with the fixes (`R[3] damper = c;`, or a projection
+/// `MTF proj = n.transpose();` in between).
 /// A 3-dimensional bond carries nalgebra vectors of the model's scalar type, and a
 /// linear law's coefficient may be a number (it scales) or a matrix (it multiplies):
 /// `C[3] joint = diag3(0.0, k, k);`. A TF/MTF with modulus `M` relates `f2 = M f1` and
-/// `e1 = Mᵀ e2` (a GY/MGY: `e2 = M f1`, `e1 = Mᵀ f2`). When causality makes a
-/// multibond two-port work backwards, it needs `M⁻¹`: give it with
+/// `e1 = Mᵀ e2` (a GY/MGY: `e2 = M f1`, `e1 = Mᵀ f2`). A two-port declared `[n]`, or
+/// whose modulus is a number, joins its two bonds into one dimension; otherwise `M` is
+/// an n₂×n₁ matrix between a port-1 bond of dimension n₁ and a port-2 bond of dimension
+/// n₂: `MTF proj = n.transpose();` (with `param n: Vector3`) projects a 3-D velocity on
+/// `n` for a scalar damper, `MTF along = n;` turns a scalar speed into a 3-D velocity.
+/// The compiler reads the shape of a modulus made of numbers, typed parameters and
+/// states, `vec3`, `diag3`, `skew`, `rot_z`, `identity3`, `box_inertia`,
+/// `.transpose()`, sums and products, and reports one that does not fit its bonds; a
+/// modulus it cannot read takes the other port's dimension when only one is known, and
+/// rustc checks it against `SMatrix<_, n₂, n₁>` at the expression. When causality
+/// makes a multibond two-port work backwards, it needs `M⁻¹`: give it with
 /// `MTF frame = R.transpose(), inverse = R;` — without it, the compile error says so (a
-/// skew-symmetric lever arm has no inverse). Helpers for laws are in
+/// skew-symmetric lever arm has no inverse; a non-square modulus has none at all). A
+/// given inverse is checked on numbers (`Model::check`: before every run, when an FMU
+/// leaves initialisation, and in debug builds at every evaluation in `f64`). Helpers for laws are in
 /// `bgdsl_runtime::multibond`: `vec3`, `diag3`, `skew`, `rot_z`, `box_inertia`.
 ///
 /// Parameters may be vectors and matrices (`param K: [f64; 3] = [0.0, 1e5, 1e5];`,

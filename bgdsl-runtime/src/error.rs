@@ -158,6 +158,9 @@ pub enum SolverError {
         /// The time of the last sample recorded.
         t: f64,
     },
+    /// The model refused the state a run starts from ([`Model::check`](crate::Model::check)):
+    /// a given inverse that is not one.
+    InvalidModel(crate::model::ModelError),
 }
 
 /// Which value was non-finite in [`SolverError::NonFiniteState`].
@@ -353,6 +356,7 @@ impl fmt::Display for SolverError {
             SolverError::Stopped { t } => {
                 write!(f, "stopped on request after the sample at t = {}", Num(*t))
             }
+            SolverError::InvalidModel(error) => write!(f, "{error}"),
         }
     }
 }

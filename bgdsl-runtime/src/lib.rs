@@ -58,7 +58,9 @@ pub use error::{NonFiniteKind, SampleTimeProblem, SolverError};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 #[cfg(feature = "std")]
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
-pub use model::{unit_of, InputInfo, Model, ParameterInfo, PowerBalance, SignalInfo, WithInputs};
+pub use model::{
+    unit_of, InputInfo, Model, ModelError, ParameterInfo, PowerBalance, SignalInfo, WithInputs,
+};
 #[cfg(feature = "std")]
 pub use record::{Recorder, Trajectory};
 pub use scalar::Scalar;

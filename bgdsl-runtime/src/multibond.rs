@@ -117,6 +117,21 @@ impl<S: Scalar, const N: usize> Linear<S, N> for SMatrix<S, N, N> {
     }
 }
 
+/// ‖M X − I‖ (Frobenius norm, in `f64`) for a modulus `m` and the inverse `x` a law
+/// gives for it, numbers or N×N matrices: how far `x` is from being `m`'s inverse.
+pub fn inverse_residual<S: Scalar, const N: usize>(
+    m: &impl Linear<S, N>,
+    x: &impl Linear<S, N>,
+) -> f64 {
+    let mut sum = 0.0;
+    for i in 0..N {
+        let unit = SVector::<S, N>::from_fn(|j, _| S::from_f64(if i == j { 1.0 } else { 0.0 }));
+        let column = m.apply(x.apply(unit)) - unit;
+        sum += column.iter().map(|v| v.to_f64().powi(2)).sum::<f64>();
+    }
+    sum.sqrt()
+}
+
 /// Solves `a x = b` by Gaussian elimination with partial pivoting (pivots chosen by
 /// value, so the same pivots serve `f64` and dual numbers).
 fn solve<S: Scalar, const N: usize>(
@@ -216,6 +231,18 @@ mod tests {
         // A pivot is needed: the first diagonal entry is zero.
         let p = Matrix3::new(0.0, 2.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 3.0);
         assert!((Linear::<f64, 3>::apply(&p, Linear::<f64, 3>::solve(&p, v)) - v).norm() < 1e-14);
+    }
+
+    #[test]
+    fn measure_how_far_an_inverse_is_from_one() {
+        let r = rot_z(0.3);
+        assert!(inverse_residual::<f64, 3>(&r, &r.transpose()) < 1e-15);
+        let wrong = inverse_residual::<f64, 3>(&r, &r);
+        assert!((wrong - (r * r - identity3()).norm()).abs() < 1e-15 && wrong > 0.4);
+        assert_eq!(
+            inverse_residual::<f64, 3>(&2.0, &0.25),
+            0.5 * 3.0_f64.sqrt()
+        );
     }
 
     #[test]

@@ -43,8 +43,8 @@ bond_graph! {
         MTF arm = -skew(R * vec3(-0.5 * l, 0.0, 0.0));
         0 pin;
         1 joint;
-        C k_pin = k;
-        R damp = c;
+        C[3] k_pin = k;
+        R[3] damp = c;
 
         weight -> v -> { body_p, pin };
         w -> body_h;

@@ -252,6 +252,9 @@ impl Instance {
                 self.x[i]
             ));
         }
+        if let Err(message) = self.model.check_state(self.time, &self.x) {
+            return refuse(message);
+        }
         match self.kind {
             FmuKind::ModelExchange => self.phase = Phase::EventMode,
             FmuKind::CoSimulation => {

@@ -77,6 +77,13 @@ pub trait FmuModel {
     ///
     /// The message of the first rule broken, naming the parameter.
     fn check_parameter_values(&self, values: &[f64]) -> Result<(), String>;
+    /// The model's own check of a state ([`Model::check`]): an inverse its law gives
+    /// that is not one.
+    ///
+    /// # Errors
+    ///
+    /// The check's message, naming the element, the time and the residual.
+    fn check_state(&self, t: f64, x: &[f64]) -> Result<(), String>;
     /// Writes the inputs into `out`.
     fn input_values(&self, out: &mut [f64]);
     /// Sets the inputs from `values`.
@@ -207,6 +214,10 @@ impl<M: Exportable> FmuModel for Adapter<M> {
 
     fn check_parameter_values(&self, values: &[f64]) -> Result<(), String> {
         (self.check)(values)
+    }
+
+    fn check_state(&self, t: f64, x: &[f64]) -> Result<(), String> {
+        self.model().check(t, x).map_err(|error| error.to_string())
     }
 
     fn input_values(&self, out: &mut [f64]) {

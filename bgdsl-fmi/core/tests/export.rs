@@ -25,6 +25,20 @@ bond_graph! {
     }
 }
 
+bond_graph! {
+    /// A force turned into a frame by an MTF whose law gives an inverse: the true one
+    /// when `wrong` is 0, another rotation otherwise.
+    pub model Turned {
+        param theta = 0.4;
+        param wrong = 0.5;
+        Se push = bgdsl_runtime::multibond::vec3(1.0, 2.0, 3.0);
+        MTF to_frame = bgdsl_runtime::multibond::rot_z(theta).transpose(),
+            inverse = bgdsl_runtime::multibond::rot_z(theta + wrong);
+        I[3] mass = 1.0;
+        push -> to_frame -> mass;
+    }
+}
+
 /// `dx/dt = -x`, but a non-finite derivative after t = 0.5 (a solver failure) and a
 /// panic when x passes 100 (a bug in model code).
 #[derive(Clone, Debug, Default)]
@@ -75,6 +89,7 @@ impl WithInputs for Fragile {
 static MODELS: &[ModelEntry] = &[
     ModelEntry::new::<Pushed>("pushed"),
     ModelEntry::new::<Fragile>("fragile"),
+    ModelEntry::new::<Turned>("turned"),
 ];
 
 bgdsl_fmi_core::export_fmi2!(MODELS);
@@ -266,6 +281,35 @@ fn a_panic_in_model_code_is_an_error_not_a_crash() {
         assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
         assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
         fmi2FreeInstance(c);
+    }
+}
+
+/// The model's check of its initial state (a given inverse that is not one) is an
+/// fmi2Error on leaving initialisation, naming the element; with the parameter
+/// mended, the same instance initialises.
+#[test]
+fn a_wrong_inverse_is_refused_on_leaving_initialisation() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    for kind in [0, 1] {
+        let c = instantiate::<Turned>(kind, &cb);
+        let description = ModelDescription::of::<Turned>();
+        let wrong = description.variables.find("wrong").unwrap().value_reference;
+        // SAFETY: a live component and arrays of the lengths passed.
+        unsafe {
+            assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+            assert_eq!(fmi2ExitInitializationMode(c), Status::Error);
+            let (status, message) = log.last();
+            assert_eq!(status, Status::Error as c_int);
+            assert!(
+                message
+                    .contains("the inverse given for the modulus of `to_frame` is not its inverse"),
+                "{message}"
+            );
+            assert_eq!(fmi2SetReal(c, &wrong, 1, &0.0), Status::Ok);
+            assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+            fmi2FreeInstance(c);
+        }
     }
 }
 

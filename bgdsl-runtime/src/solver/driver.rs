@@ -327,6 +327,10 @@ impl<'m, M: Model> Simulation<'m, M> {
         self.t = t0;
         self.x.copy_from_slice(x0);
         check_state(&self.x, t0).map_err(non_finite::<M>)?;
+        self.model
+            .get()
+            .check(t0, &self.x)
+            .map_err(SolverError::InvalidModel)?;
         if let Kernel::Explicit(k) = &mut self.kernel {
             k.restart();
         }
