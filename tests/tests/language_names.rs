@@ -29,6 +29,28 @@ bond_graph! {
     }
 }
 
+bond_graph! {
+    /// A damper whose names are keywords, for an instance named by a keyword too.
+    submodel Damping(c) {
+        R r#box = c;
+        1 r#in;
+        r#in -> r#box;
+    }
+
+    /// A submodel instance, a kinematic state and an input named by keywords.
+    pub model KeywordParts {
+        input r#do = 1.0;
+        Se push = r#do;
+        I mass = 1.0;
+        1 v;
+        Damping r#use(c = 0.5);
+        push -> v -> { mass, r#use.r#in };
+        state r#mod: f64 = 0.0;
+        der r#mod = v.f;
+        output r#while = r#use.r#box.e;
+    }
+}
+
 mod should {
     use super::*;
 
@@ -80,6 +102,36 @@ mod should {
             match_q: 2.0,
         };
         assert_eq!(state.loop_p + state.match_q, 3.0);
+    }
+
+    /// Inside an instance a raw name is a plain part of the path (`use.box`), and a
+    /// kinematic state and an input named by keywords are named without `r#`.
+    #[test]
+    fn name_keyword_parts_of_instances_states_and_inputs_plainly() {
+        assert_eq!(KeywordParts::STATE_NAMES, ["mass.p", "mod"]);
+        let outputs: Vec<&str> = KeywordParts::OUTPUTS.iter().map(|o| o.name).collect();
+        assert_eq!(outputs, ["while"]);
+        let inputs: Vec<&str> = <KeywordParts as bgdsl_runtime::WithInputs>::INPUTS
+            .iter()
+            .map(|i| i.name)
+            .collect();
+        assert_eq!(inputs, ["do"]);
+        let damper = KeywordParts::GRAPH
+            .elements
+            .iter()
+            .find(|e| e.kind == ElementKind::R)
+            .unwrap();
+        assert_eq!((damper.group, damper.name), ("use", "box"));
+        // The damper's effort is c times the common velocity p / m.
+        let model = KeywordParts::default();
+        let (x, mut y) = ([2.0, 0.0], [0.0]);
+        model.outputs(0.0, &x, &mut y);
+        assert_eq!(y, [0.5 * 2.0]);
+        let state = KeywordPartsState {
+            mass_p: 1.0,
+            r#mod: 2.0,
+        };
+        assert_eq!(state.r#mod, 2.0);
     }
 
     /// MTF and MSe keep the kind the compiler gives them (TF, Se) and the word the
