@@ -438,7 +438,8 @@ impl Parse for File {
             let mut errors = Vec::new();
             let flat = crate::flatten::flatten(body, &visible, &mut errors);
             let mut keywords_in_paths = Vec::new();
-            let flat = raw_keyword_paths(flat, &mut keywords_in_paths);
+            let declared = keywords_declared(&flat);
+            let flat = raw_keyword_paths(flat, &declared, &mut keywords_in_paths);
             // Braces around the flat body, so "expected `;`" at its end still points
             // at the model's closing brace.
             let mut group = proc_macro2::Group::new(proc_macro2::Delimiter::Brace, flat);
@@ -568,10 +569,50 @@ fn starts_statement(input: ParseStream) -> bool {
         || (fork.peek(Token![-]) && fork.peek2(syn::token::Bracket))
 }
 
-/// Keywords used as names before a `.` (`loop.f`, `init loop.q`, `s.0` of a splitter
-/// `r#loop`) become raw identifiers, so the statement still parses; each is noted for
-/// one error. No keyword is followed by `.` in a valid statement.
-fn raw_keyword_paths(tokens: TokenStream, found: &mut Vec<(String, Span)>) -> TokenStream {
+/// Keywords a statement declares as names, written plainly: `1 loop;`, `param type =
+/// ...;`, `C[3] match = ...;` (the parser reports each; [`raw_keyword_paths`] reads the
+/// other uses of the word as that name).
+fn keywords_declared(tokens: &TokenStream) -> Vec<String> {
+    let trees: Vec<TokenTree> = tokens.clone().into_iter().collect();
+    let mut declared = Vec::new();
+    for (i, tt) in trees.iter().enumerate() {
+        let introduces = match tt {
+            TokenTree::Ident(word) => {
+                let word = word.to_string();
+                ["param", "input", "state", "output", "der"].contains(&word.as_str())
+                    || ElementKind::from_word(&word).is_some()
+            }
+            TokenTree::Literal(lit) => ["0", "1"].contains(&lit.to_string().as_str()),
+            _ => false,
+        };
+        if !introduces {
+            continue;
+        }
+        let mut next = i + 1;
+        if matches!(trees.get(next), Some(TokenTree::Group(g)) if g.delimiter() == proc_macro2::Delimiter::Bracket)
+        {
+            next += 1;
+        }
+        if let Some(TokenTree::Ident(name)) = trees.get(next) {
+            let word = name.to_string();
+            if crate::keywords::is_raw_able_keyword(&word) && !declared.contains(&word) {
+                declared.push(word);
+            }
+        }
+    }
+    declared
+}
+
+/// Keywords used as names become raw identifiers, so the statements that use them
+/// still parse; each use is noted for one error per word. A keyword is taken as a name
+/// before a `.` (`loop.f`, `init loop.q`: no keyword is followed by `.` in a valid
+/// statement) and wherever a word in `declared` appears, but not where it is declared
+/// (the parser reports that) nor before a string (`in "unit"`).
+fn raw_keyword_paths(
+    tokens: TokenStream,
+    declared: &[String],
+    found: &mut Vec<(String, Span)>,
+) -> TokenStream {
     let trees: Vec<TokenTree> = tokens.into_iter().collect();
     let mut out = TokenStream::new();
     for (i, tt) in trees.iter().enumerate() {
@@ -583,7 +624,13 @@ fn raw_keyword_paths(tokens: TokenStream, found: &mut Vec<(String, Span)>) -> To
                     (Some(TokenTree::Punct(dot)), Some(TokenTree::Ident(_) | TokenTree::Literal(_)))
                         if dot.as_char() == '.' && dot.spacing() == proc_macro2::Spacing::Alone
                 );
-                if before_dot && crate::keywords::is_raw_able_keyword(&word) {
+                let declaration = i > 0
+                    && !before_dot
+                    && keywords_declared(&trees[i.saturating_sub(2)..=i].iter().cloned().collect())
+                        .contains(&word);
+                let before_string = matches!(trees.get(i + 1), Some(TokenTree::Literal(lit)) if lit.to_string().starts_with('"'));
+                let declared_name = declared.contains(&word) && !declaration && !before_string;
+                if (before_dot || declared_name) && crate::keywords::is_raw_able_keyword(&word) {
                     found.push((word.clone(), ident.span()));
                     out.extend([TokenTree::Ident(Ident::new_raw(&word, ident.span()))]);
                 } else {
@@ -593,7 +640,7 @@ fn raw_keyword_paths(tokens: TokenStream, found: &mut Vec<(String, Span)>) -> To
             TokenTree::Group(group) => {
                 let mut copy = proc_macro2::Group::new(
                     group.delimiter(),
-                    raw_keyword_paths(group.stream(), found),
+                    raw_keyword_paths(group.stream(), declared, found),
                 );
                 copy.set_span(group.span());
                 out.extend([TokenTree::Group(copy)]);
@@ -1148,6 +1195,20 @@ mod should {
             panic!("expected the junction")
         };
         assert_eq!(junction.name.to_string(), "r#loop");
+    }
+
+    #[test]
+    fn read_a_plainly_declared_keyword_as_that_name_in_expressions() {
+        let file = parse(
+            r#"model M { param type = 2.0 in "kg"; Se s = 3.0 * type; I m = type, p in "kg·m/s";
+                         s -> m; output w = type; }"#,
+        )
+        .unwrap();
+        let model = &file.models[0];
+        let messages: Vec<String> = model.errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(messages[0].starts_with("`type` is a Rust keyword"));
+        assert_eq!(model.stmts.len(), 5);
     }
 
     #[test]
