@@ -27,6 +27,8 @@ mod expand;
 mod flatten;
 #[path = "../src/ir.rs"]
 mod ir;
+#[path = "../src/keywords.rs"]
+mod keywords;
 #[path = "../src/power.rs"]
 mod power;
 #[path = "../src/resolve.rs"]

@@ -77,7 +77,8 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             .collect(),
     );
     let unit_warnings = &units.warnings;
-    let field = |n: &String| format_ident!("{}", n.replace('.', "_"));
+    // `loop.q` → `loop_q`; an output `type` → `r#type`.
+    let field = |n: &String| crate::keywords::rust_ident(&n.replace('.', "_"), Span::call_site());
     let state_fields: Vec<Ident> = state_names.iter().map(field).collect();
     let state_docs: Vec<String> = state_names.iter().map(|n| format!("`{n}`")).collect();
     let output_fields: Vec<Ident> = output_names.iter().map(field).collect();
@@ -544,7 +545,7 @@ fn host_interface(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> Ho
 /// and length of each, in declaration order.
 fn infos(params: &[&ParamDecl]) -> TokenStream {
     let infos = params.iter().map(|p| {
-        let name = p.name.to_string();
+        let name = crate::keywords::unraw(&p.name.to_string());
         let unit = p.unit.map(syn::LitStr::value).unwrap_or_default();
         let doc = doc_text(p.attrs).unwrap_or_default();
         let len = p.shape.len();
@@ -998,8 +999,8 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
         // `crank__tip__v`: the element `v` of the instance `crank.tip`.
         let full = element.name.to_string();
         let (group, name) = match full.rsplit_once(crate::flatten::SEPARATOR) {
-            Some((group, name)) => (crate::flatten::display(group), name.to_string()),
-            None => (String::new(), full.clone()),
+            Some((group, name)) => (crate::flatten::display(group), crate::flatten::display(name)),
+            None => (String::new(), crate::flatten::display(&full)),
         };
         let kind = match element.kind {
             ElementKind::Se => quote!(Se),
@@ -1019,13 +1020,14 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             ElementCausality::Conductance => quote!(Conductance),
             ElementCausality::Fixed => quote!(Fixed),
         };
-        quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, causality: #rt::ElementCausality::#element_causality })
+        let modulated = element.modulated;
+        quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, modulated: #modulated, causality: #rt::ElementCausality::#element_causality })
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);
         let label = match &bond.label {
             Some(label) => {
-                let label = label.to_string();
+                let label = crate::flatten::display(&label.to_string());
                 quote!(::core::option::Option::Some(#label))
             }
             None => quote!(::core::option::Option::None),

@@ -17,6 +17,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use proc_macro2::{Delimiter, Group, Ident, Span, TokenStream, TokenTree};
+use syn::ext::IdentExt;
 use syn::parse::{Parse, ParseStream};
 use syn::{braced, parenthesized, Token};
 
@@ -25,7 +26,21 @@ pub const SEPARATOR: &str = "__";
 
 /// How a (possibly prefixed) name is shown to the user: `crank__v` as `crank.v`.
 pub fn display(name: &str) -> String {
-    name.replace(SEPARATOR, ".")
+    crate::keywords::unraw(&name.replace(SEPARATOR, "."))
+}
+
+/// `instance__name` for a part of an instance (a raw `r#loop` loses its prefix there:
+/// `crank__loop` is a plain name).
+fn prefixed(instance: &Ident, name: &Ident, span: Span) -> Ident {
+    let (instance, name) = (instance.unraw(), name.unraw());
+    Ident::new(&format!("{instance}{SEPARATOR}{name}"), span)
+}
+
+/// A copy of `ident` at `span`, raw if it was.
+fn respanned(ident: &Ident, span: Span) -> Ident {
+    let mut copy = ident.clone();
+    copy.set_span(span);
+    copy
 }
 
 /// `submodel Name(param, param = default, ...) { statements }`
@@ -339,14 +354,11 @@ fn rewrite(
             TokenTree::Ident(ident) if !after_dot => {
                 let word = ident.to_string();
                 if locals.contains(&word) {
-                    out.extend([TokenTree::Ident(Ident::new(
-                        &format!("{instance}{SEPARATOR}{word}"),
-                        span,
-                    ))]);
+                    out.extend([TokenTree::Ident(prefixed(instance, &ident, span))]);
                 } else if let Some(value) = substitutions.get(&word) {
                     out.extend(value.clone());
                 } else {
-                    out.extend([TokenTree::Ident(Ident::new(&word, span))]);
+                    out.extend([TokenTree::Ident(respanned(&ident, span))]);
                 }
             }
             TokenTree::Group(group)
@@ -442,7 +454,7 @@ fn merge_paths(tokens: TokenStream, instances: &BTreeSet<String>) -> TokenStream
                         (Some(TokenTree::Punct(dot)), Some(TokenTree::Ident(member)))
                             if dot.as_char() == '.' =>
                         {
-                            name = Ident::new(&format!("{name}{SEPARATOR}{member}"), member.span());
+                            name = prefixed(&name, member, member.span());
                             i += 2;
                         }
                         _ => break,

@@ -104,6 +104,8 @@ pub struct Element {
     pub name: Ident,
     /// Its kind.
     pub kind: ElementKind,
+    /// Written as MSe, MSf, MTF or MGY: treated as its kind, shown as written.
+    pub modulated: bool,
     /// Its constitutive law.
     pub law: Law,
     /// The dimension declared with `[n]`, and where.
@@ -237,7 +239,7 @@ impl Graph {
         let name = crate::flatten::display(&element.name.to_string());
         match element.kind {
             ElementKind::Zero | ElementKind::One => format!("{} `{name}`", element.kind.describe()),
-            kind => format!("{} `{name}`", kind.word()),
+            kind => format!("{} `{name}`", kind.written(element.modulated)),
         }
     }
 }

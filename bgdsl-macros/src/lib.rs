@@ -17,6 +17,7 @@ mod errors;
 mod expand;
 mod flatten;
 mod ir;
+mod keywords;
 mod power;
 mod resolve;
 mod rewrite;
@@ -87,6 +88,7 @@ mod value_shape;
 ///            | doc* "output" name (":" type)? "=" expr unit? ";"  named output
 ///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
 /// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1" | "Split"
+/// name      := identifier | "r#" keyword                  `r#loop`, shown as `loop`
 /// type      := "f64" | "Vector3" | "Matrix3" | "[f64; N]" | "[[f64; C]; R]"
 /// law       := "=" expr ("," "inverse" "=" expr)?          linear law or source value
 ///                                                          (inverse: TF/GY only)
@@ -99,6 +101,12 @@ mod value_shape;
 ///                                                          `s.0`: component 0 of splitter `s`
 /// arrow     := "->" | "-[" label "]->"                     half arrow: power left to right
 /// ```
+///
+/// Every statement ends with `;`; a missing one is reported once, after the statement
+/// that lacks it. A model has at least one element. A Rust keyword names something only
+/// as a raw identifier (`1 r#loop;`, `r#loop.f`); messages, state, parameter and output
+/// names and `GRAPH` show it without `r#`. The modulated kinds (MSe, MSf, MTF, MGY) are
+/// their base kinds to the compiler and keep their own name in messages and `GRAPH`.
 ///
 /// ## Multibonds
 ///
@@ -258,7 +266,9 @@ mod value_shape;
 /// followed by propagation through junctions, TF and GY. A causal conflict, a storage
 /// element forced into derivative causality, an algebraic loop and a law in the wrong
 /// form are compile errors at the element concerned, with notes at the elements that
-/// caused them.
+/// caused them. A conflict names the junction where it happens, both parties and the
+/// path between them (gyrators included), and says whether two bonds both set the
+/// junction's common variable or none can.
 ///
 /// [`Scalar`]: https://docs.rs/bgdsl-runtime/latest/bgdsl_runtime/trait.Scalar.html
 #[proc_macro]

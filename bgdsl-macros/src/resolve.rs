@@ -56,6 +56,19 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
         }
     }
     resolver.declare_states(states, ders);
+    if resolver.graph.elements.is_empty()
+        && resolver.errors.is_empty()
+        && resolver.poisoned.is_empty()
+    {
+        let name = &resolver.graph.name;
+        resolver.errors.at(
+            name.span(),
+            format!(
+                "model `{name}` has no elements: a bond graph needs elements joined by bonds\n\
+                 help: declare elements and bond them, e.g. `Se push = 1.0; R load = 2.0; push -> load;`"
+            ),
+        );
+    }
     for chain in chains {
         resolver.connect(chain);
     }
@@ -109,7 +122,11 @@ impl Resolver {
             self.poisoned.insert(key.clone());
             self.errors.with_note(
                 name.span(),
-                format!("the name `{name}` is declared twice"),
+                format!(
+                    "the name `{name}` is declared twice\n\
+                     help: rename one of them: parameters, elements, junctions, states and \
+                     bond labels share one namespace"
+                ),
                 first.span(),
                 format!("`{name}` is first declared here"),
             );
@@ -159,7 +176,12 @@ impl Resolver {
         if !self.claim(&decl.name, Named::Element(id)) {
             return;
         }
-        let law = self.check_law(decl.kind, &decl.name, decl.law);
+        let law = self.check_law(
+            decl.kind.written(decl.modulated),
+            decl.kind,
+            &decl.name,
+            decl.law,
+        );
         if decl.inverse.is_some() && !matches!(decl.kind, ElementKind::Tf | ElementKind::Gy) {
             self.errors
                 .at(decl.name.span(), "only a TF or GY takes an `inverse = ...`");
@@ -187,7 +209,7 @@ impl Resolver {
                     format!(
                         "{} `{}` has no state to give a unit: only C (`, q in \"m\"`) and I \
                          (`, p in \"kg·m/s\"`) elements have one",
-                        kind.word(),
+                        kind.written(decl.modulated),
                         crate::flatten::display(&decl.name.to_string()),
                     ),
                 );
@@ -205,6 +227,7 @@ impl Resolver {
         self.graph.elements.push(Element {
             name: decl.name,
             kind: decl.kind,
+            modulated: decl.modulated,
             law,
             dimension: decl.dimension,
             inverse: decl.inverse,
@@ -262,9 +285,8 @@ impl Resolver {
 
     /// Checks that the law's shape fits the kind; on a mistake records it and returns
     /// a law that keeps later stages quiet.
-    fn check_law(&mut self, kind: ElementKind, name: &Ident, law: LawSyntax) -> Law {
+    fn check_law(&mut self, word: &str, kind: ElementKind, name: &Ident, law: LawSyntax) -> Law {
         use ElementKind::*;
-        let word = kind.word();
         match (kind, law) {
             (Zero | One | Split, LawSyntax::None) => Law::None,
             (Zero | One | Split, _) => {
@@ -347,7 +369,10 @@ impl Resolver {
             let first = first.name.span();
             self.errors.with_note(
                 output.name.span(),
-                format!("the output `{}` is declared twice", output.name),
+                format!(
+                    "the output `{}` is declared twice\nhelp: rename one of them, or remove one",
+                    output.name
+                ),
                 first,
                 "first declared here",
             );
@@ -603,17 +628,32 @@ impl Resolver {
             // only the submodel's own bond to it (a free rotation, say).
             let port = element.name.to_string().contains(crate::flatten::SEPARATOR)
                 && matches!(element.kind, ElementKind::Zero | ElementKind::One);
+            let shown = crate::flatten::display(&name.to_string());
             let message = match element.kind {
                 _ if port => None,
                 _ if count == 0 => Some(format!(
-                    "{what} is not connected to anything: add a bond such as `{name} -> ...`, or remove it"
+                    "{what} is not connected to anything\n\
+                     help: bond it to the graph (`{name} -> ...` or `... -> {name}`), or remove it"
                 )),
-                ElementKind::Zero | ElementKind::One if count < 2 => Some(format!(
-                    "{what} has only one bond; a junction joins two or more bonds"
-                )),
+                ElementKind::Zero | ElementKind::One if count < 2 => {
+                    let bond = self.graph.bond(element.bonds[0]);
+                    let other = self.graph.describe(bond.other(id));
+                    Some(format!(
+                        "{what} has only one bond; a junction joins two or more bonds\n\
+                         help: bond the other elements that share its {} to it \
+                         (`{name} -> {{ a, b }}`), or remove the junction and bond {other} where it belongs",
+                        if element.kind == ElementKind::Zero { "effort" } else { "flow" }
+                    ))
+                }
                 ElementKind::Zero | ElementKind::One | ElementKind::Split => None,
+                ElementKind::Tf | ElementKind::Gy if count < 2 => Some(format!(
+                    "{what} has {count} bond, but a two-port takes exactly 2 (one in, one out)\n\
+                     help: give it a bond in, port 1 (`... -> {name}`), and a bond out, port 2 (`{name} -> ...`)"
+                )),
                 ElementKind::Tf | ElementKind::Gy if count != 2 => Some(format!(
-                    "{what} has {count} bonds, but a two-port takes exactly 2 (one in, one out)"
+                    "{what} has {count} bonds, but a two-port takes exactly 2 (one in, one out)\n\
+                     help: join the bonds of one side at a junction and bond the junction to `{shown}`: \
+                     `1 j; {{ a, b }} -> j -> {name};`"
                 )),
                 ElementKind::Tf | ElementKind::Gy => {
                     let [a, b] = [element.bonds[0], element.bonds[1]];
@@ -633,7 +673,9 @@ impl Resolver {
                     }
                 }
                 _ if count != 1 => Some(format!(
-                    "{what} has {count} bonds, but a one-port takes exactly 1; join them with a junction (`0 j;` or `1 j;`)"
+                    "{what} has {count} bonds, but a one-port takes exactly 1\n\
+                     help: bond it to one junction that joins the others: `1 j; {name} -> j -> {{ a, b }};` \
+                     (a 1-junction when they share its flow, a 0-junction when they share its effort)"
                 )),
                 _ => None,
             };
@@ -674,8 +716,9 @@ impl Resolver {
             self.errors.with_note(
                 init.element.span(),
                 format!(
-                    "`{}.{expected}` is given an initial value twice",
-                    init.element
+                    "`{}.{expected}` is given an initial value twice\n\
+                     help: keep one `init {}.{expected} = ...;` and remove the other",
+                    init.element, init.element
                 ),
                 first,
                 "first given here",

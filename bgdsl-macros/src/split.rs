@@ -269,6 +269,7 @@ fn push_element(graph: &mut Graph, name: syn::Ident, kind: ElementKind) -> Eleme
     graph.elements.push(Element {
         name,
         kind,
+        modulated: false,
         law: Law::None,
         dimension: None,
         inverse: None,

@@ -3,7 +3,8 @@
 //! The tree mirrors the text one to one and keeps every span, so later stages can point
 //! at the user's words. Nothing is resolved here: names are still identifiers.
 
-use proc_macro2::Span;
+use proc_macro2::{Span, TokenStream, TokenTree};
+use syn::ext::IdentExt;
 use syn::parse::{Parse, ParseStream};
 use syn::spanned::Spanned;
 use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Token, Visibility};
@@ -254,6 +255,17 @@ impl ElementKind {
         }
     }
 
+    /// The kind as written, modulated or not: `MTF` for a modulated transformer.
+    pub fn written(self, modulated: bool) -> &'static str {
+        match (self, modulated) {
+            (ElementKind::Se, true) => "MSe",
+            (ElementKind::Sf, true) => "MSf",
+            (ElementKind::Tf, true) => "MTF",
+            (ElementKind::Gy, true) => "MGY",
+            (kind, _) => kind.word(),
+        }
+    }
+
     /// Human description used in messages ("1-junction", "C element").
     pub fn describe(self) -> &'static str {
         match self {
@@ -278,6 +290,9 @@ pub struct ElementDecl {
     pub attrs: Vec<Attribute>,
     /// The kind.
     pub kind: ElementKind,
+    /// Written in its modulated form (MSe, MSf, MTF, MGY): the same kind to the
+    /// compiler, shown as written.
+    pub modulated: bool,
     /// The dimension declared with `[n]`, and where.
     pub dimension: Option<(usize, Span)>,
     /// The element's name.
@@ -344,17 +359,15 @@ pub struct Port {
     pub component: Option<syn::LitInt>,
 }
 
-impl Parse for Port {
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        let name = input.parse()?;
-        let component = if input.peek(Token![.]) && input.peek2(syn::LitInt) {
-            input.parse::<Token![.]>()?;
-            Some(input.parse()?)
-        } else {
-            None
-        };
-        Ok(Port { name, component })
-    }
+fn parse_port(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Port> {
+    let name = name(input, recovered)?;
+    let component = if input.peek(Token![.]) && input.peek2(syn::LitInt) {
+        input.parse::<Token![.]>()?;
+        Some(input.parse()?)
+    } else {
+        None
+    };
+    Ok(Port { name, component })
 }
 
 /// `->` or `-[label]->`: a bond's half arrow, power flowing left to right.
@@ -424,6 +437,9 @@ impl Parse for File {
         for (attrs, vis, name, body, close) in raw_models {
             let mut errors = Vec::new();
             let flat = crate::flatten::flatten(body, &visible, &mut errors);
+            let mut keywords_in_paths = Vec::new();
+            let declared = keywords_declared(&flat);
+            let flat = raw_keyword_paths(flat, &declared, &mut keywords_in_paths);
             // Braces around the flat body, so "expected `;`" at its end still points
             // at the model's closing brace.
             let mut group = proc_macro2::Group::new(proc_macro2::Delimiter::Brace, flat);
@@ -431,7 +447,7 @@ impl Parse for File {
             let in_braces = |input: ParseStream| {
                 let body;
                 braced!(body in input);
-                parse_body(&body)
+                parse_body(&body, &keywords_in_paths)
             };
             let tokens = proc_macro2::TokenTree::Group(group).into();
             let (stmts, parse_errors, poisoned) = syn::parse::Parser::parse2(in_braces, tokens)?;
@@ -449,23 +465,205 @@ impl Parse for File {
     }
 }
 
+/// Mistakes the parser steps over without losing the statement.
+#[derive(Default)]
+struct Recovered {
+    /// Errors reported as they are found.
+    errors: Vec<syn::Error>,
+    /// Keywords written as names (taken as raw identifiers), reported once per word.
+    keywords: Vec<(String, Span)>,
+}
+
 /// A model's (flattened) statements, recovering after each one that does not parse.
-fn parse_body(body: ParseStream) -> syn::Result<(Vec<Stmt>, Vec<syn::Error>, Vec<Ident>)> {
+/// `keywords_in_paths` are keywords the body uses as names in `loop.f` (see
+/// [`raw_keyword_paths`]).
+fn parse_body(
+    body: ParseStream,
+    keywords_in_paths: &[(String, Span)],
+) -> syn::Result<(Vec<Stmt>, Vec<syn::Error>, Vec<Ident>)> {
     let mut stmts = Vec::new();
-    let mut errors = Vec::new();
+    let mut recovered = Recovered::default();
     let mut poisoned = Vec::new();
     while !body.is_empty() {
         let start = body.fork();
-        match parse_stmt(body, &mut errors) {
+        let start_cursor = body.cursor();
+        let parsed = parse_stmt(body, &mut recovered).and_then(|stmt| {
+            if !body.peek(Token![;]) && !body.is_empty() && starts_statement(body) {
+                // Only the `;` is missing: say so where it belongs and read on from the
+                // next statement, which is intact.
+                recovered
+                    .errors
+                    .push(missing_semicolon(start_cursor, body.cursor()));
+            } else {
+                body.parse::<Token![;]>()?;
+            }
+            Ok(stmt)
+        });
+        match parsed {
             Ok(stmt) => stmts.push(stmt),
             Err(error) => {
-                errors.push(error);
+                recovered.errors.push(error);
                 poisoned.extend(declared_name(&start));
                 skip_past_semicolon(body);
             }
         }
     }
+    let mut errors = recovered.errors;
+    let mut reported = std::collections::BTreeSet::new();
+    for (word, span) in recovered.keywords.iter().chain(keywords_in_paths) {
+        if reported.insert(word.clone()) {
+            errors.push(crate::keywords::keyword_error(word, *span));
+        }
+    }
     Ok((stmts, errors, poisoned))
+}
+
+/// "expected `;` after `1.0`", at the statement's last token.
+fn missing_semicolon(start: syn::buffer::Cursor, end: syn::buffer::Cursor) -> syn::Error {
+    let mut last = None;
+    let mut cursor = start;
+    while cursor != end {
+        let Some((tt, next)) = cursor.token_tree() else {
+            break;
+        };
+        last = Some(tt);
+        cursor = next;
+    }
+    let Some(last) = last else {
+        return syn::Error::new(end.span(), "expected `;`");
+    };
+    let text = match &last {
+        TokenTree::Group(_) => String::new(),
+        tt => format!(" after `{tt}`"),
+    };
+    syn::Error::new(
+        last.span(),
+        format!("expected `;`{text}: every statement ends with `;`"),
+    )
+}
+
+/// Whether the input starts a new statement: a doc comment or attribute, a
+/// statement keyword before a name, an element kind before a name or `[n]`, or a bond.
+fn starts_statement(input: ParseStream) -> bool {
+    let named = |fork: ParseStream| fork.peek(Ident::peek_any);
+    if input.peek(Token![#]) {
+        return true;
+    }
+    if input.peek(LitInt) {
+        return input.peek2(Ident::peek_any) || input.peek2(syn::token::Bracket);
+    }
+    if input.peek(syn::token::Brace) {
+        return input.peek2(Token![->]) || input.peek2(Token![-]);
+    }
+    let fork = input.fork();
+    let Ok(word) = Ident::parse_any(&fork) else {
+        return false;
+    };
+    let text = word.to_string();
+    let statement_word =
+        ["param", "input", "state", "der", "init", "output"].contains(&text.as_str());
+    let element_word = ElementKind::from_word(&text).is_some();
+    ((statement_word || element_word) && named(&fork))
+        || (element_word && fork.peek(syn::token::Bracket))
+        || fork.peek(Token![->])
+        || (fork.peek(Token![-]) && fork.peek2(syn::token::Bracket))
+}
+
+/// Keywords a statement declares as names, written plainly: `1 loop;`, `param type =
+/// ...;`, `C[3] match = ...;` (the parser reports each; [`raw_keyword_paths`] reads the
+/// other uses of the word as that name).
+fn keywords_declared(tokens: &TokenStream) -> Vec<String> {
+    let trees: Vec<TokenTree> = tokens.clone().into_iter().collect();
+    let mut declared = Vec::new();
+    for (i, tt) in trees.iter().enumerate() {
+        let introduces = match tt {
+            TokenTree::Ident(word) => {
+                let word = word.to_string();
+                ["param", "input", "state", "output", "der"].contains(&word.as_str())
+                    || ElementKind::from_word(&word).is_some()
+            }
+            TokenTree::Literal(lit) => ["0", "1"].contains(&lit.to_string().as_str()),
+            _ => false,
+        };
+        if !introduces {
+            continue;
+        }
+        let mut next = i + 1;
+        if matches!(trees.get(next), Some(TokenTree::Group(g)) if g.delimiter() == proc_macro2::Delimiter::Bracket)
+        {
+            next += 1;
+        }
+        if let Some(TokenTree::Ident(name)) = trees.get(next) {
+            let word = name.to_string();
+            if crate::keywords::is_raw_able_keyword(&word) && !declared.contains(&word) {
+                declared.push(word);
+            }
+        }
+    }
+    declared
+}
+
+/// Keywords used as names become raw identifiers, so the statements that use them
+/// still parse; each use is noted for one error per word. A keyword is taken as a name
+/// before a `.` (`loop.f`, `init loop.q`: no keyword is followed by `.` in a valid
+/// statement) and wherever a word in `declared` appears, but not where it is declared
+/// (the parser reports that) nor before a string (`in "unit"`).
+fn raw_keyword_paths(
+    tokens: TokenStream,
+    declared: &[String],
+    found: &mut Vec<(String, Span)>,
+) -> TokenStream {
+    let trees: Vec<TokenTree> = tokens.into_iter().collect();
+    let mut out = TokenStream::new();
+    for (i, tt) in trees.iter().enumerate() {
+        match tt {
+            TokenTree::Ident(ident) => {
+                let word = ident.to_string();
+                let before_dot = matches!(
+                    (trees.get(i + 1), trees.get(i + 2)),
+                    (Some(TokenTree::Punct(dot)), Some(TokenTree::Ident(_) | TokenTree::Literal(_)))
+                        if dot.as_char() == '.' && dot.spacing() == proc_macro2::Spacing::Alone
+                );
+                let declaration = i > 0
+                    && !before_dot
+                    && keywords_declared(&trees[i.saturating_sub(2)..=i].iter().cloned().collect())
+                        .contains(&word);
+                let before_string = matches!(trees.get(i + 1), Some(TokenTree::Literal(lit)) if lit.to_string().starts_with('"'));
+                let declared_name = declared.contains(&word) && !declaration && !before_string;
+                if (before_dot || declared_name) && crate::keywords::is_raw_able_keyword(&word) {
+                    found.push((word.clone(), ident.span()));
+                    out.extend([TokenTree::Ident(Ident::new_raw(&word, ident.span()))]);
+                } else {
+                    out.extend([tt.clone()]);
+                }
+            }
+            TokenTree::Group(group) => {
+                let mut copy = proc_macro2::Group::new(
+                    group.delimiter(),
+                    raw_keyword_paths(group.stream(), declared, found),
+                );
+                copy.set_span(group.span());
+                out.extend([TokenTree::Group(copy)]);
+            }
+            _ => out.extend([tt.clone()]),
+        }
+    }
+    out
+}
+
+/// A name: an identifier, or a keyword written where a name belongs, which is taken as
+/// the raw identifier it should have been (`loop` as `r#loop`) and noted for one error,
+/// so that nothing else fails because of it.
+fn name(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Ident> {
+    if !input.peek(Ident) && input.peek(Ident::peek_any) {
+        let word = input.fork().call(Ident::parse_any)?.to_string();
+        if crate::keywords::is_raw_able_keyword(&word) {
+            let keyword = input.call(Ident::parse_any)?;
+            recovered.keywords.push((word.clone(), keyword.span()));
+            return Ok(Ident::new_raw(&word, keyword.span()));
+        }
+    }
+    input.parse()
 }
 
 /// The name a statement declares, read without parsing it: `KIND name ...`,
@@ -473,9 +671,15 @@ fn parse_body(body: ParseStream) -> syn::Result<(Vec<Stmt>, Vec<syn::Error>, Vec
 fn declared_name(input: ParseStream) -> Option<Ident> {
     let _ = input.call(Attribute::parse_outer);
     let declares = input.peek(Ident) || input.peek(LitInt);
-    if declares && input.peek2(Ident) {
+    if declares && input.peek2(Ident::peek_any) {
         let _ = input.parse::<proc_macro2::TokenTree>();
-        input.parse::<Ident>().ok()
+        let word = input.call(Ident::parse_any).ok()?;
+        let text = word.to_string();
+        Some(if crate::keywords::is_raw_able_keyword(&text) {
+            Ident::new_raw(&text, word.span())
+        } else {
+            word
+        })
     } else {
         None
     }
@@ -518,7 +722,8 @@ fn skip_past_semicolon(input: ParseStream) {
     });
 }
 
-fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Result<Stmt> {
+/// One statement, without its `;`.
+fn parse_stmt(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Stmt> {
     let attrs = input.call(Attribute::parse_outer)?;
     let lookahead = input.lookahead1();
     let stmt = if lookahead.peek(kw::param) || lookahead.peek(kw::input) {
@@ -528,7 +733,7 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         } else {
             input.parse::<kw::param>()?;
         }
-        let name = input.parse()?;
+        let name = name(input, recovered)?;
         let shape = optional_shape(input)?.unwrap_or(Shape::Scalar);
         input.parse::<Token![=]>()?;
         let default = input.parse()?;
@@ -543,7 +748,7 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         })
     } else if lookahead.peek(kw::state) {
         input.parse::<kw::state>()?;
-        let name = input.parse()?;
+        let name = name(input, recovered)?;
         input.parse::<Token![:]>()?;
         let shape = parse_shape(input)?;
         input.parse::<Token![=]>()?;
@@ -559,14 +764,14 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
     } else if lookahead.peek(kw::der) {
         no_attrs(&attrs, "a `der` statement")?;
         input.parse::<kw::der>()?;
-        let name = input.parse()?;
+        let name = name(input, recovered)?;
         input.parse::<Token![=]>()?;
         let expr = input.parse()?;
         Stmt::Der(DerDecl { name, expr })
     } else if lookahead.peek(kw::init) {
         no_attrs(&attrs, "an `init` statement")?;
         input.parse::<kw::init>()?;
-        let element = input.parse()?;
+        let element = name(input, recovered)?;
         input.parse::<Token![.]>()?;
         let var = input.parse()?;
         input.parse::<Token![=]>()?;
@@ -578,7 +783,7 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
         })
     } else if lookahead.peek(kw::output) {
         input.parse::<kw::output>()?;
-        let name = input.parse()?;
+        let name = name(input, recovered)?;
         let shape = optional_shape(input)?;
         input.parse::<Token![=]>()?;
         let expr = input.parse()?;
@@ -593,19 +798,21 @@ fn parse_stmt(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Resul
     } else if lookahead.peek(LitInt) {
         Stmt::Element(parse_junction(input, recovered)?)
     } else if lookahead.peek(Ident) {
-        if input.peek2(Ident) || input.peek2(syn::token::Bracket) {
-            Stmt::Element(parse_element(input, attrs)?)
+        if input.peek2(Ident::peek_any) || input.peek2(syn::token::Bracket) {
+            Stmt::Element(parse_element(input, attrs, recovered)?)
         } else {
             no_attrs(&attrs, "a bond statement")?;
-            Stmt::Bonds(input.parse()?)
+            Stmt::Bonds(parse_chain(input, recovered)?)
         }
     } else if lookahead.peek(syn::token::Brace) {
         no_attrs(&attrs, "a bond statement")?;
-        Stmt::Bonds(input.parse()?)
+        Stmt::Bonds(parse_chain(input, recovered)?)
+    } else if input.peek(Ident::peek_any) && input.peek2(Token![-]) {
+        // A bond from an element named by a keyword: `loop -> v`.
+        Stmt::Bonds(parse_chain(input, recovered)?)
     } else {
         return Err(lookahead.error());
     };
-    input.parse::<Token![;]>()?;
     Ok(stmt)
 }
 
@@ -629,7 +836,7 @@ fn no_attrs(attrs: &[Attribute], what: &str) -> syn::Result<()> {
     }
 }
 
-fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::Result<ElementDecl> {
+fn parse_junction(input: ParseStream, recovered: &mut Recovered) -> syn::Result<ElementDecl> {
     let lit: LitInt = input.parse()?;
     let kind = match lit.base10_digits() {
         "0" if lit.suffix().is_empty() => ElementKind::Zero,
@@ -645,10 +852,10 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
         }
     };
     let dimension = optional_dimension(input)?;
-    let name = input.parse()?;
+    let name = name(input, recovered)?;
     if input.peek(Token![=]) || input.peek(syn::token::Brace) {
         // A mistake the parser can step over: report it, skip the law, keep the junction.
-        recovered.push(input.error(format!(
+        recovered.errors.push(input.error(format!(
             "a {} has no constitutive law: write `{} {};`",
             kind.describe(),
             kind.word(),
@@ -668,6 +875,7 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
     Ok(ElementDecl {
         attrs: Vec::new(),
         kind,
+        modulated: false,
         dimension,
         name,
         law: LawSyntax::None,
@@ -676,7 +884,11 @@ fn parse_junction(input: ParseStream, recovered: &mut Vec<syn::Error>) -> syn::R
     })
 }
 
-fn parse_element(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<ElementDecl> {
+fn parse_element(
+    input: ParseStream,
+    attrs: Vec<Attribute>,
+    recovered: &mut Recovered,
+) -> syn::Result<ElementDecl> {
     let word: Ident = input.parse()?;
     let Some(kind) = ElementKind::from_word(&word.to_string()) else {
         return Err(syn::Error::new(
@@ -688,7 +900,7 @@ fn parse_element(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<Eleme
         ));
     };
     let dimension = optional_dimension(input)?;
-    let name: Ident = input.parse()?;
+    let name = name(input, recovered)?;
     let mut inverse = None;
     let law = if input.peek(Token![=]) {
         input.parse::<Token![=]>()?;
@@ -744,6 +956,7 @@ fn parse_element(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<Eleme
     Ok(ElementDecl {
         attrs,
         kind,
+        modulated: word.to_string().starts_with('M'),
         dimension,
         name,
         law,
@@ -752,77 +965,80 @@ fn parse_element(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<Eleme
     })
 }
 
-impl Parse for BondChain {
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        let first = input.parse()?;
-        let mut links = Vec::new();
-        loop {
-            let lookahead = input.lookahead1();
-            if lookahead.peek(Token![->]) {
-                let arrow: Token![->] = input.parse()?;
-                links.push((
-                    Arrow {
-                        label: None,
-                        span: arrow.span(),
-                    },
-                    input.parse()?,
-                ));
-            } else if lookahead.peek(Token![-]) {
-                let dash: Token![-] = input.parse()?;
-                let inner;
-                bracketed!(inner in input);
-                let label: Ident = parse_group(&inner, |inner| {
-                    let label: Ident = inner.parse()?;
-                    if !inner.is_empty() {
-                        return Err(
-                            inner.error("expected `]`: a bond label is one name, `-[b1]->`")
-                        );
-                    }
-                    Ok(label)
-                })?;
-                input.parse::<Token![->]>()?;
-                links.push((
-                    Arrow {
-                        label: Some(label),
-                        span: dash.span(),
-                    },
-                    input.parse()?,
-                ));
-            } else if !links.is_empty() && lookahead.peek(Token![;]) {
-                break;
-            } else if input.peek(Token![<-]) {
-                return Err(input.error(
-                    "bonds point the way power flows, left to right: write `b -> a` instead of `a <- b`",
-                ));
-            } else if input.peek(Token![=>]) {
-                return Err(input.error("a bond's half arrow is written `->`, not `=>`"));
-            } else {
-                return Err(lookahead.error());
-            }
+/// `a -> b -[label]-> { c, d }`, up to (not including) its `;`.
+fn parse_chain(input: ParseStream, recovered: &mut Recovered) -> syn::Result<BondChain> {
+    let first = parse_endpoint(input, recovered)?;
+    let mut links = Vec::new();
+    loop {
+        let lookahead = input.lookahead1();
+        if lookahead.peek(Token![->]) {
+            let arrow: Token![->] = input.parse()?;
+            let arrow = Arrow {
+                label: None,
+                span: arrow.span(),
+            };
+            links.push((arrow, parse_endpoint(input, recovered)?));
+        } else if lookahead.peek(Token![-]) {
+            let dash: Token![-] = input.parse()?;
+            let inner;
+            bracketed!(inner in input);
+            let label = parse_group(&inner, |inner| {
+                let label = name(inner, recovered)?;
+                if !inner.is_empty() {
+                    return Err(inner.error("expected `]`: a bond label is one name, `-[b1]->`"));
+                }
+                Ok(label)
+            })?;
+            input.parse::<Token![->]>()?;
+            let arrow = Arrow {
+                label: Some(label),
+                span: dash.span(),
+            };
+            links.push((arrow, parse_endpoint(input, recovered)?));
+        } else if !links.is_empty() && (lookahead.peek(Token![;]) || starts_statement(input)) {
+            // The `;`, or the next statement where it is missing (reported by the caller).
+            break;
+        } else if input.peek(Token![<-]) {
+            return Err(input.error(
+                "bonds point the way power flows, left to right: write `b -> a` instead of `a <- b`",
+            ));
+        } else if input.peek(Token![=>]) {
+            return Err(input.error("a bond's half arrow is written `->`, not `=>`"));
+        } else {
+            return Err(lookahead.error());
         }
-        Ok(BondChain { first, links })
     }
+    Ok(BondChain { first, links })
 }
 
-impl Parse for Endpoint {
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        let lookahead = input.lookahead1();
-        if lookahead.peek(Ident) {
-            Ok(Endpoint::One(input.parse()?))
-        } else if lookahead.peek(syn::token::Brace) {
-            let body;
-            let brace = braced!(body in input);
-            let names = parse_group(&body, |body| body.parse_terminated(Port::parse, Token![,]))?;
-            if names.is_empty() {
-                return Err(syn::Error::new(
-                    brace.span.join(),
-                    "an empty group `{}` connects nothing: name at least one element",
-                ));
+/// One side of an arrow: a name, a splitter component, or a braced group.
+fn parse_endpoint(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Endpoint> {
+    let lookahead = input.lookahead1();
+    if lookahead.peek(Ident) || input.peek(Ident::peek_any) {
+        Ok(Endpoint::One(parse_port(input, recovered)?))
+    } else if lookahead.peek(syn::token::Brace) {
+        let body;
+        let brace = braced!(body in input);
+        let ports = parse_group(&body, |body| {
+            let mut ports = Vec::new();
+            while !body.is_empty() {
+                ports.push(parse_port(body, recovered)?);
+                if body.is_empty() {
+                    break;
+                }
+                body.parse::<Token![,]>()?;
             }
-            Ok(Endpoint::Group(names.into_iter().collect()))
-        } else {
-            Err(lookahead.error())
+            Ok(ports)
+        })?;
+        if ports.is_empty() {
+            return Err(syn::Error::new(
+                brace.span.join(),
+                "an empty group `{}` connects nothing: name at least one element",
+            ));
         }
+        Ok(Endpoint::Group(ports))
+    } else {
+        Err(lookahead.error())
     }
 }
 
@@ -953,6 +1169,80 @@ mod should {
         let file = parse("model M { * x; }").unwrap();
         let message = file.models[0].errors[0].to_string();
         assert_eq!(message.matches("identifier").count(), 1, "{message}");
+    }
+
+    #[test]
+    fn take_a_keyword_name_as_raw_and_report_it_once() {
+        let file = parse(
+            "model M { Se push = 1.0; 1 loop; push -> loop; loop -[type]-> push;
+                       output v = loop.f; init loop.q = 0.0; }",
+        )
+        .unwrap();
+        let model = &file.models[0];
+        let messages: Vec<String> = model.errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(messages.len(), 2, "{messages:?}");
+        assert!(
+            messages[0].starts_with("`loop` is a Rust keyword"),
+            "{messages:?}"
+        );
+        assert!(messages[0].contains("help: write `r#loop`"), "{messages:?}");
+        assert!(
+            messages[1].starts_with("`type` is a Rust keyword"),
+            "{messages:?}"
+        );
+        assert_eq!(model.stmts.len(), 6, "every statement still parses");
+        let Stmt::Element(junction) = &model.stmts[1] else {
+            panic!("expected the junction")
+        };
+        assert_eq!(junction.name.to_string(), "r#loop");
+    }
+
+    #[test]
+    fn read_a_plainly_declared_keyword_as_that_name_in_expressions() {
+        let file = parse(
+            r#"model M { param type = 2.0 in "kg"; Se s = 3.0 * type; I m = type, p in "kg·m/s";
+                         s -> m; output w = type; }"#,
+        )
+        .unwrap();
+        let model = &file.models[0];
+        let messages: Vec<String> = model.errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(messages[0].starts_with("`type` is a Rust keyword"));
+        assert_eq!(model.stmts.len(), 5);
+    }
+
+    #[test]
+    fn accept_raw_names_without_a_word() {
+        let file =
+            parse("model M { Se r#in = 1.0; 1 r#loop; r#in -> r#loop; output v = r#loop.f; }")
+                .unwrap();
+        assert!(file.models[0].errors.is_empty());
+        assert_eq!(file.models[0].stmts.len(), 4);
+    }
+
+    #[test]
+    fn report_a_missing_semicolon_once_and_read_on() {
+        let file =
+            parse("model M { Sf push = 1.0 C spring = 100.0; push -> spring 1 v; }").unwrap();
+        let model = &file.models[0];
+        let messages: Vec<String> = model.errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(
+            messages,
+            [
+                "expected `;` after `1.0`: every statement ends with `;`",
+                "expected `;` after `spring`: every statement ends with `;`"
+            ]
+        );
+        assert_eq!(model.stmts.len(), 4, "no statement is lost");
+        assert!(model.poisoned.is_empty());
+    }
+
+    #[test]
+    fn skip_a_statement_whose_end_is_garbled() {
+        let file = parse("model M { output y = a b c; C spring = 1.0; }").unwrap();
+        let model = &file.models[0];
+        assert_eq!(model.errors.len(), 1, "{:?}", model.errors[0].to_string());
+        assert_eq!(model.stmts.len(), 1);
     }
 
     #[test]

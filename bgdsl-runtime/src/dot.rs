@@ -5,8 +5,8 @@
 //! # const GRAPH: CausalGraph = CausalGraph {
 //! #     model: "Push",
 //! #     elements: &[
-//! #         GraphElement { name: "force", group: "", kind: ElementKind::Se, causality: ElementCausality::Fixed },
-//! #         GraphElement { name: "mass", group: "", kind: ElementKind::I, causality: ElementCausality::Integral },
+//! #         GraphElement { name: "force", group: "", kind: ElementKind::Se, modulated: false, causality: ElementCausality::Fixed },
+//! #         GraphElement { name: "mass", group: "", kind: ElementKind::I, modulated: false, causality: ElementCausality::Integral },
 //! #     ],
 //! #     bonds: &[GraphBond { label: None, from: 0, to: 1, dimension: 1, stroke_at: 1 }],
 //! # };
@@ -255,7 +255,7 @@ struct NodeAttributes<'a>(&'a GraphElement);
 impl Display for NodeAttributes<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let element = self.0;
-        let keyword = element.kind.keyword();
+        let keyword = element.keyword();
         match element.kind {
             ElementKind::Zero | ElementKind::One if element.name.is_empty() => {
                 write!(f, "[label={}", quoted(keyword))?

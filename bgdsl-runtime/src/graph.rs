@@ -67,10 +67,27 @@ pub struct GraphElement {
     /// The submodel instance the element belongs to, as a path such as `"crank"` or
     /// `"crank.A1"`; empty for the model's own elements.
     pub group: &'static str,
-    /// Its kind.
+    /// Its kind. A modulated element (MSe, MSf, MTF, MGY) has the kind of its
+    /// unmodulated form, since it obeys the same causal rules.
     pub kind: ElementKind,
+    /// Written in its modulated form (`MTF arm = ...`); only a source, TF or GY can be.
+    pub modulated: bool,
     /// The causality it was assigned.
     pub causality: ElementCausality,
+}
+
+impl GraphElement {
+    /// The kind as the model wrote it: `MTF` for a modulated transformer, else
+    /// [`ElementKind::keyword`].
+    pub const fn keyword(&self) -> &'static str {
+        match (self.kind, self.modulated) {
+            (ElementKind::Se, true) => "MSe",
+            (ElementKind::Sf, true) => "MSf",
+            (ElementKind::Tf, true) => "MTF",
+            (ElementKind::Gy, true) => "MGY",
+            (kind, _) => kind.keyword(),
+        }
+    }
 }
 
 /// One bond of the graph: power flows from `from` to `to` (the half arrow points at

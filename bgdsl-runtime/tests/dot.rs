@@ -18,6 +18,7 @@ const fn element(
         name,
         group,
         kind,
+        modulated: false,
         causality,
     }
 }
@@ -283,6 +284,38 @@ mod should {
             node_line(&dot, 5),
             r#"e5 [label="TF : lever", tooltip="TF crank.lever"];"#
         );
+    }
+
+    /// A modulated element is drawn with the kind the model wrote (MTF, MSe), not its
+    /// base kind.
+    #[test]
+    fn label_modulated_elements_as_written() {
+        const fn modulated(name: &'static str, kind: ElementKind) -> GraphElement {
+            GraphElement {
+                modulated: true,
+                ..element(name, "", kind, Fixed)
+            }
+        }
+        const GRAPH: CausalGraph = CausalGraph {
+            model: "Arm",
+            elements: &[
+                modulated("push", Se),
+                modulated("arm", Tf),
+                element("load", "", R, Resistance),
+            ],
+            bonds: &[bond(0, 1, 1, 1, None), bond(1, 2, 1, 1, None)],
+        };
+        let graph = GRAPH;
+        let dot = graph.to_dot();
+        assert_eq!(
+            node_line(&dot, 0),
+            r#"e0 [label="MSe : push", tooltip="MSe push"];"#
+        );
+        assert_eq!(
+            node_line(&dot, 1),
+            r#"e1 [label="MTF : arm", tooltip="MTF arm"];"#
+        );
+        assert_eq!(graph.elements[1].kind, Tf);
     }
 
     /// `"` and `\` are escaped in quoted strings (names, labels, tooltips), and `&`,

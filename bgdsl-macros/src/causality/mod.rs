@@ -53,6 +53,12 @@ pub enum CausalityError {
         first: ElementId,
         /// The junction or two-port where the two meet, if not on `second`'s bond.
         at: Option<ElementId>,
+        /// How each party's causality reached the meeting place: `first`'s route and
+        /// `second`'s, each from the element to the meeting place, both ends included.
+        routes: [Vec<ElementId>; 2],
+        /// At a junction: whether two bonds set its common variable (`Some(true)`) or
+        /// none can (`Some(false)`).
+        twice: Option<bool>,
     },
     /// A storage element pushed into derivative causality.
     Derivative {
@@ -69,6 +75,8 @@ pub enum CausalityError {
         needs_flow_form: bool,
         /// The element whose choice fixed it.
         forced_by: ElementId,
+        /// The elements from `forced_by` to the resistor, both ends included.
+        path: Vec<ElementId>,
     },
     /// A junction that ends with no bond, or two, setting its common variable.
     Junction {
@@ -194,6 +202,10 @@ struct Scap<'g> {
 struct Clash {
     first: ElementId,
     at: Option<ElementId>,
+    /// The routes of `first`'s and of the new requirement's causality to `at`.
+    routes: [Vec<ElementId>; 2],
+    /// See [`CausalityError::Conflict::twice`].
+    twice: Option<bool>,
 }
 
 impl Scap<'_> {
@@ -219,12 +231,25 @@ impl Scap<'_> {
                         element: id,
                         needs_flow_form: stroke.at == id,
                         forced_by: stroke.root,
+                        path: self.path_to(bond, id),
                     },
-                    _ => CausalityError::Conflict {
-                        second: id,
-                        first: stroke.root,
-                        at: None,
-                    },
+                    _ => {
+                        // At a junction: the source wanted to set its common variable
+                        // (and another bond does), or not to (and no other bond can).
+                        let other = self.graph.bond(bond).other(id);
+                        let twice = matches!(
+                            self.graph.element(other).kind,
+                            ElementKind::Zero | ElementKind::One
+                        )
+                        .then(|| self.sets_common(other, wanted));
+                        CausalityError::Conflict {
+                            second: id,
+                            first: stroke.root,
+                            at: None,
+                            routes: [self.path_to(bond, other), vec![id, other]],
+                            twice,
+                        }
+                    }
                 };
                 self.errors.push(error);
             }
@@ -288,6 +313,8 @@ impl Scap<'_> {
         Err(first_clash.unwrap_or(Clash {
             first: root,
             at: None,
+            routes: [Vec::new(), Vec::new()],
+            twice: None,
         }))
     }
 
@@ -296,6 +323,8 @@ impl Scap<'_> {
             second: root,
             first: clash.first,
             at: clash.at,
+            routes: clash.routes,
+            twice: clash.twice,
         });
     }
 
@@ -361,7 +390,9 @@ impl Scap<'_> {
         let mut free = Vec::new();
         for &bond in bonds {
             match self.strokes[bond.0] {
-                Some(stroke) if self.sets_common(junction, stroke.at) => setters.push(stroke),
+                Some(stroke) if self.sets_common(junction, stroke.at) => {
+                    setters.push((bond, stroke))
+                }
                 Some(_) => {}
                 None => free.push(bond),
             }
@@ -372,6 +403,8 @@ impl Scap<'_> {
             (0, 0) => Err(Clash {
                 first: root,
                 at: Some(junction),
+                routes: [Vec::new(), self.path_to(trigger, junction)],
+                twice: Some(false),
             }),
             (0, 1) => {
                 // The last free bond must set the common variable.
@@ -399,14 +432,25 @@ impl Scap<'_> {
                 Ok(())
             }
             _ => {
-                let first = setters
+                let (first_bond, first) = setters
                     .iter()
-                    .map(|s| s.root)
-                    .find(|&r| r != root)
-                    .unwrap_or(setters[0].root);
+                    .map(|&(bond, s)| (bond, s.root))
+                    .find(|&(_, r)| r != root)
+                    .unwrap_or((setters[0].0, setters[0].1.root));
+                // The new requirement's own setter, else the bond that brought it.
+                let second_bond = setters
+                    .iter()
+                    .map(|&(bond, _)| bond)
+                    .find(|&bond| bond != first_bond)
+                    .unwrap_or(trigger);
                 Err(Clash {
                     first,
                     at: Some(junction),
+                    routes: [
+                        self.path_to(first_bond, junction),
+                        self.path_to(second_bond, junction),
+                    ],
+                    twice: Some(true),
                 })
             }
         }
@@ -449,6 +493,11 @@ impl Scap<'_> {
                     stroke.root
                 },
                 at: Some(two_port),
+                routes: [
+                    self.path_to(partner, two_port),
+                    self.path_to(this, two_port),
+                ],
+                twice: None,
             }),
         }
     }
@@ -491,6 +540,11 @@ impl Scap<'_> {
                             stroke.root
                         },
                         at: Some(splitter),
+                        routes: [
+                            self.path_to(bond, splitter),
+                            self.path_to(trigger, splitter),
+                        ],
+                        twice: None,
                     })
                 }
             }
@@ -505,7 +559,9 @@ impl Scap<'_> {
         while let Some(stroke) = current {
             match stroke.cause {
                 Some((parent, via)) => {
-                    path.push(via);
+                    if path.last() != Some(&via) {
+                        path.push(via);
+                    }
                     current = self.strokes[parent.0];
                 }
                 None => {
@@ -610,80 +666,38 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
     let name = |id: ElementId| graph.describe(id);
     let span = |id: ElementId| graph.element(id).name.span();
     match error {
-        CausalityError::Conflict { second, first, at } => {
-            // Where the two meet: the junction named by propagation, else the element
-            // at the other end of the second one's bond.
-            let meeting = at.or_else(|| {
-                let element = graph.element(*second);
-                element.bonds.first().map(|&b| graph.bond(b).other(*second))
-            });
-            let place = meeting.map_or(String::new(), |j| format!(" at {}", name(j)));
-            let (what, mend) = match graph.element(*second).kind {
-                ElementKind::Se => (
-                    "effort",
-                    "two efforts imposed on one 0-junction (or through a 1-junction loop) cannot both hold: \
-                     remove one, or put a resistance (R) or an inertia (I) in series with one of them",
-                ),
-                ElementKind::Sf => (
-                    "flow",
-                    "two flows imposed on one 1-junction cannot both hold: remove one, or put a \
-                     compliance (C) or a resistance (R) between them (on a 0-junction)",
-                ),
-                _ => (
-                    "causality",
-                    "the junction structure fixes this variable twice: check the bonds around it",
-                ),
-            };
-            if first == second {
-                // The requirement clashed with its own consequences, met by two routes.
-                let split = meeting.is_some_and(|j| {
-                    graph.dissolved.iter().any(|d| d.components.contains(&j))
-                });
-                let why = if split {
-                    "its consequences arrive there by two routes that disagree: the junctions a \
-                     splitter takes apart get their components' causalities one by one, but an \
-                     element acting on the whole vector (a C, I or R[n] with one law, a source, a \
-                     TF or GY whose modulus may be a matrix) takes one causality for all its \
-                     components; write that element as scalar elements behind a splitter (a TF \
-                     or GY whose modulus is a plain number, such as `TF lever = n;` with an f64 \
-                     `n`, is taken apart by component)"
-                } else {
-                    "its consequences come back around a loop of junctions, TFs and GYs with the \
-                     opposite causality; break the loop with a storage or a resistive element"
-                };
-                return syn::Error::new(
-                    span(*second),
-                    format!("causal conflict{place}: {} cannot impose its {what}: {why}", name(*second)),
-                );
-            }
-            let mend = match crossed_components(graph, *first, meeting) {
-                Some(whole) => format!(
-                    "{} acts on another component of the split multibond and reaches this one only \
-                     through {whole}, which acts on the whole vector and so takes one causality for \
-                     all its components (a C, I or R[n] with one law, a source, or a TF or GY whose \
-                     modulus may be a matrix: only a plain-number modulus is taken apart by \
-                     component); write that element as scalar elements behind a splitter",
-                    name(*first)
-                ),
-                None => mend.to_string(),
-            };
-            let mut e = syn::Error::new(
-                span(*second),
-                format!(
-                    "causal conflict{place}: {} cannot impose its {what}, because {} already fixes it; {mend}",
-                    name(*second),
-                    name(*first)
-                ),
-            );
-            e.combine(syn::Error::new(span(*first), format!("note: {} fixes it here", name(*first))));
-            e
-        }
+        CausalityError::Conflict {
+            second,
+            first,
+            at,
+            routes,
+            twice,
+        } => render_conflict(graph, *second, *first, *at, routes, *twice),
         CausalityError::Derivative { element, path } => {
             let forced_by = path.first().copied().unwrap_or(*element);
-            let route: Vec<String> = path.iter().map(|&id| crate::flatten::display(&graph.element(id).name.to_string())).collect();
             let kind = graph.element(*element).kind;
             let forcer_kind = graph.element(forced_by).kind;
+            // The junction the storage sits on, if the path reaches it through one.
+            let junction = path
+                .len()
+                .checked_sub(2)
+                .map(|i| path[i])
+                .filter(|&j| matches!(graph.element(j).kind, ElementKind::Zero | ElementKind::One));
+            let nobody = junction.and_then(|j| match (kind, graph.element(j).kind) {
+                (ElementKind::I, ElementKind::Zero) => Some(format!(
+                    "nothing else sets the effort of {}, so the inertia would have to\n\
+                     help: bond a compliance (C) or a resistance (R) to the junction, which sets its effort",
+                    name(j)
+                )),
+                (ElementKind::C, ElementKind::One) => Some(format!(
+                    "nothing else sets the flow of {}, so the compliance would have to\n\
+                     help: bond an inertia (I) or a resistance (R) to the junction, which sets its flow",
+                    name(j)
+                )),
+                _ => None,
+            });
             let mend = match (kind, forcer_kind) {
+                _ if nobody.is_some() => nobody.as_deref().unwrap_or_default(),
                 (ElementKind::I, ElementKind::I) => "the two inertias are rigidly tied; put a compliance (a C, with an R for damping) between them, as mechanism models do with compliant joints, or merge them into one I",
                 (ElementKind::C, ElementKind::C) => "the two compliances share one variable; put a resistance (R) or an inertia (I) between them, or merge them into one C",
                 (ElementKind::I, _) => "its flow is fixed from outside; put a compliance (C, with an R for damping) between it and what fixes it",
@@ -695,7 +709,7 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                     "{} is forced into derivative causality by {} (path: {}); {mend}",
                     name(*element),
                     name(forced_by),
-                    route.join(" -> ")
+                    route(graph, path)
                 ),
             );
             if forced_by != *element {
@@ -708,7 +722,7 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             }
             e
         }
-        CausalityError::MissingForm { element, needs_flow_form, forced_by } => {
+        CausalityError::MissingForm { element, needs_flow_form, forced_by, path } => {
             let el = &graph.element(*element).name;
             let (given, needed) = if *needs_flow_form {
                 ("e = φ(f)", format!("its flow from its effort: add `f = ...e...` to `R {el} {{ ... }}`"))
@@ -718,8 +732,9 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             let mut e = syn::Error::new(
                 span(*element),
                 format!(
-                    "R `{el}` gives its law only as {given}, but its causality (fixed by {}) needs {needed}",
-                    name(*forced_by)
+                    "R `{el}` gives its law only as {given}, but its causality (fixed by {}; path: {}) needs {needed}",
+                    name(*forced_by),
+                    route(graph, path)
                 ),
             );
             e.combine(syn::Error::new(span(*forced_by), format!("note: {} fixes that causality", name(*forced_by))));
@@ -734,6 +749,191 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             ),
         ),
     }
+}
+
+/// `push -> v -> motor`: the elements of a path by their names.
+fn route(graph: &Graph, path: &[ElementId]) -> String {
+    let names: Vec<String> = path
+        .iter()
+        .map(|&id| crate::flatten::display(&graph.element(id).name.to_string()))
+        .collect();
+    names.join(" -> ")
+}
+
+/// ", through GY `motor`, which turns an effort into a flow" for the gyrators on a path.
+fn through_gyrators(graph: &Graph, path: &[ElementId]) -> String {
+    let gyrators: Vec<String> = path
+        .iter()
+        .filter(|&&id| graph.element(id).kind == ElementKind::Gy)
+        .map(|&id| graph.describe(id))
+        .collect();
+    match gyrators.as_slice() {
+        [] => String::new(),
+        [one] => {
+            format!(", through {one}, which turns an effort into a flow and a flow into an effort")
+        }
+        many => format!(
+            ", through {}, which turn efforts into flows and flows into efforts",
+            many.join(" and ")
+        ),
+    }
+}
+
+/// The whole path of a conflict: `first`'s route to the meeting place, then on to
+/// `second` (its route walked backwards).
+fn conflict_path(routes: &[Vec<ElementId>; 2]) -> Vec<ElementId> {
+    let mut path = routes[0].clone();
+    for &id in routes[1].iter().rev() {
+        if path.last() != Some(&id) {
+            path.push(id);
+        }
+    }
+    path
+}
+
+/// The message of a causal conflict: where, between whom, along which path, and how
+/// to mend it, in the terms of the junction where it happens.
+fn render_conflict(
+    graph: &Graph,
+    second: ElementId,
+    first: ElementId,
+    at: Option<ElementId>,
+    routes: &[Vec<ElementId>; 2],
+    twice: Option<bool>,
+) -> syn::Error {
+    let name = |id: ElementId| graph.describe(id);
+    let span = |id: ElementId| graph.element(id).name.span();
+    // Where the two meet: the junction named by propagation, else the element at the
+    // other end of the second one's bond.
+    let meeting = at.or_else(|| {
+        let element = graph.element(second);
+        element.bonds.first().map(|&b| graph.bond(b).other(second))
+    });
+    let place = meeting.map_or(String::new(), |j| format!(" at {}", name(j)));
+    let path = conflict_path(routes);
+    let shown_path = if path.len() > 1 {
+        format!(
+            " (path: {}{})",
+            route(graph, &path),
+            through_gyrators(graph, &path)
+        )
+    } else {
+        String::new()
+    };
+    let what = match graph.element(second).kind {
+        ElementKind::Se => "effort",
+        ElementKind::Sf => "flow",
+        _ => "causality",
+    };
+    if first == second {
+        // The requirement clashed with its own consequences, met by two routes.
+        let split =
+            meeting.is_some_and(|j| graph.dissolved.iter().any(|d| d.components.contains(&j)));
+        let why = if split {
+            "its consequences arrive there by two routes that disagree: the junctions a \
+             splitter takes apart get their components' causalities one by one, but an \
+             element acting on the whole vector (a C, I or R[n] with one law, a source, a \
+             TF or GY whose modulus may be a matrix) takes one causality for all its \
+             components; write that element as scalar elements behind a splitter (a TF \
+             or GY whose modulus is a plain number, such as `TF lever = n;` with an f64 \
+             `n`, is taken apart by component)"
+        } else {
+            "its consequences come back around a loop of junctions, TFs and GYs with the \
+             opposite causality; break the loop with a storage or a resistive element"
+        };
+        // The routes from the element to where they meet (a splitter's are left out:
+        // they run through the scalar junctions it was taken apart into).
+        let routes_shown = match routes {
+            _ if split => String::new(),
+            [a, b] if a.len() > 1 && b.len() > 1 => format!(
+                " (routes: {} and {}{})",
+                route(graph, a),
+                route(graph, b),
+                through_gyrators(graph, &path)
+            ),
+            [_, b] if b.len() > 1 => {
+                format!(" (path: {}{})", route(graph, b), through_gyrators(graph, b))
+            }
+            _ => String::new(),
+        };
+        return syn::Error::new(
+            span(second),
+            format!(
+                "causal conflict{place}: {} cannot impose its {what}{routes_shown}: {why}",
+                name(second)
+            ),
+        );
+    }
+    if let Some(whole) = crossed_components(graph, first, meeting) {
+        let mut e = syn::Error::new(
+            span(second),
+            format!(
+                "causal conflict{place}: {} cannot impose its {what}, because {} already fixes \
+                 it; {} acts on another component of the split multibond and reaches this one \
+                 only through {whole}, which acts on the whole vector and so takes one causality \
+                 for all its components (a C, I or R[n] with one law, a source, or a TF or GY \
+                 whose modulus may be a matrix: only a plain-number modulus is taken apart by \
+                 component); write that element as scalar elements behind a splitter",
+                name(second),
+                name(first),
+                name(first)
+            ),
+        );
+        e.combine(syn::Error::new(
+            span(first),
+            format!("note: {} fixes it here", name(first)),
+        ));
+        return e;
+    }
+    let junction =
+        meeting.filter(|&j| matches!(graph.element(j).kind, ElementKind::Zero | ElementKind::One));
+    let message = match (junction, twice) {
+        (Some(j), Some(twice)) => {
+            let zero = graph.element(j).kind == ElementKind::Zero;
+            let (common, kind) = if zero { ("effort", "0-junction") } else { ("flow", "1-junction") };
+            if twice {
+                let buffer = if zero {
+                    "a resistance (R) or an inertia (I) between one of them and the junction (on a 1-junction)"
+                } else {
+                    "a compliance (C) or a resistance (R) between one of them and the junction (on a 0-junction)"
+                };
+                format!(
+                    "causal conflict{place}: {} and {} both set its {common}{shown_path}; a {kind} \
+                     takes its {common} from exactly one of its bonds\n\
+                     help: remove one of them, or put {buffer}",
+                    name(first),
+                    name(second)
+                )
+            } else {
+                let (setters, example, imposed) = if zero {
+                    ("a compliance (C) or a resistance (R)", "C store = k;", "flows")
+                } else {
+                    ("an inertia (I) or a resistance (R)", "I mass = m;", "efforts")
+                };
+                let shown = crate::flatten::display(&graph.element(j).name.to_string());
+                format!(
+                    "causal conflict{place}: nothing sets its {common}{shown_path}: {} and {} both \
+                     impose {imposed} on it, and a {kind} needs one bond that sets its {common}\n\
+                     help: bond {setters} to `{shown}`, which sets its {common}: `{example} {shown} -> {};`",
+                    name(first),
+                    name(second),
+                    example.split_whitespace().nth(1).unwrap_or_default()
+                )
+            }
+        }
+        _ => format!(
+            "causal conflict{place}: {} cannot impose its {what}, because {} already fixes it{shown_path}\n\
+             help: remove one of them, or put a storage or resistive element between them",
+            name(second),
+            name(first)
+        ),
+    };
+    let mut e = syn::Error::new(span(second), message);
+    e.combine(syn::Error::new(
+        span(first),
+        format!("note: {} fixes it here", name(first)),
+    ));
+    e
 }
 
 #[cfg(test)]

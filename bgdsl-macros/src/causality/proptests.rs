@@ -94,6 +94,7 @@ fn build(recipe: &Recipe) -> Graph {
         graph.elements.push(Element {
             name,
             kind,
+            modulated: false,
             law,
             dimension: None,
             inverse: None,

@@ -104,6 +104,11 @@ fn report_the_second_of_two_effort_sources_with_the_first() {
             second: id(&g, "s2"),
             first: id(&g, "s1"),
             at: None,
+            routes: [
+                vec![id(&g, "s1"), id(&g, "j")],
+                vec![id(&g, "s2"), id(&g, "j")]
+            ],
+            twice: Some(true),
         }]
     );
 }
@@ -118,6 +123,7 @@ fn ask_for_the_missing_form_of_a_nonlinear_resistor() {
             element: id(&g, "r"),
             needs_flow_form: true,
             forced_by: id(&g, "s"),
+            path: vec![id(&g, "s"), id(&g, "j"), id(&g, "r")],
         }]
     );
 }
@@ -162,4 +168,51 @@ fn assign_the_same_strokes_every_time() {
     for _ in 0..10 {
         assert_eq!(assign(&g).unwrap().stroke_at, first);
     }
+}
+
+#[test]
+fn follow_a_conflict_through_a_gyrator() {
+    // The source's effort becomes the shaft's flow behind the gyrator, where the flow
+    // source sets it too: the route names the gyrator.
+    let g = graph(
+        "model M { Se s = 1.0; GY g = 0.1; Sf d = 5.0; R r = 0.01; 1 k; s -> g -> k -> r; d -> k; }",
+    );
+    let errors = assign(&g).unwrap_err();
+    let [CausalityError::Conflict {
+        second,
+        first,
+        routes,
+        twice,
+        ..
+    }] = errors.as_slice()
+    else {
+        panic!("{errors:?}")
+    };
+    assert_eq!(
+        (*second, *first, *twice),
+        (id(&g, "d"), id(&g, "s"), Some(true))
+    );
+    assert_eq!(routes[0], [id(&g, "s"), id(&g, "g"), id(&g, "k")]);
+    assert_eq!(routes[1], [id(&g, "d"), id(&g, "k")]);
+}
+
+#[test]
+fn tell_a_junction_nobody_can_set_from_one_set_twice() {
+    let g = graph("model M { Sf a = 1.0; Sf b = 2.0; 0 j; a -> j; b -> j; }");
+    let errors = assign(&g).unwrap_err();
+    assert!(
+        matches!(
+            errors.as_slice(),
+            [CausalityError::Conflict {
+                twice: Some(false),
+                ..
+            }]
+        ),
+        "{errors:?}"
+    );
+    let message = render(&g, &errors[0]).to_string();
+    assert!(
+        message.starts_with("causal conflict at 0-junction `j`: nothing sets its effort"),
+        "{message}"
+    );
 }

@@ -1,6 +1,5 @@
-// Poor message and follow-on errors: the error is "expected `->` or `-`" at `output` (it
-// should say `;` is expected after `push -> spring`), and the bond is dropped, so both
-// elements are "not connected to anything". (The next statement, `output x`, is lost too.)
+// A missing `;` after a bond: one error after `spring`; the bond and the output after
+// it are both kept, so nothing else is reported.
 use bgdsl_runtime::bond_graph;
 
 bond_graph! {
