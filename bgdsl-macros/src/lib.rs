@@ -10,15 +10,19 @@
 
 mod causality;
 mod codegen;
+mod components;
+mod derived;
 mod dims;
 mod equations;
 mod errors;
 mod expand;
 mod flatten;
+mod hoist;
 mod ir;
 mod power;
 mod resolve;
 mod rewrite;
+mod shapes;
 mod signals;
 mod split;
 mod stdlib;
