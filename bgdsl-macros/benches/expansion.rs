@@ -13,6 +13,10 @@
 mod causality;
 #[path = "../src/codegen.rs"]
 mod codegen;
+#[path = "../src/components.rs"]
+mod components;
+#[path = "../src/derived.rs"]
+mod derived;
 #[path = "../src/dims.rs"]
 mod dims;
 #[path = "../src/equations.rs"]
@@ -23,6 +27,8 @@ mod errors;
 mod expand;
 #[path = "../src/flatten.rs"]
 mod flatten;
+#[path = "../src/hoist.rs"]
+mod hoist;
 #[path = "../src/ir.rs"]
 mod ir;
 #[path = "../src/power.rs"]
@@ -31,6 +37,8 @@ mod power;
 mod resolve;
 #[path = "../src/rewrite.rs"]
 mod rewrite;
+#[path = "../src/shapes.rs"]
+mod shapes;
 #[path = "../src/signals.rs"]
 mod signals;
 #[path = "../src/split.rs"]

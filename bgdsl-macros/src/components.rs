@@ -56,7 +56,10 @@ fn what(shape: Shape) -> String {
 /// How to read the components of a value of `shape`.
 fn how_to_read(shape: Shape) -> String {
     match shape {
-        Shape::Scalar => "a number has no components".to_string(),
+        Shape::Scalar => "only vectors and matrices have components (a parameter is a vector when \
+             declared `param K: [f64; 3]`, a bond when an element on it is declared with a \
+             dimension, e.g. `C[3] spring`)"
+            .to_string(),
         Shape::Vector(n) => {
             let names = ["x", "y", "z", "w"];
             let fields = names[..n.min(4)]
@@ -120,6 +123,7 @@ impl VisitMut for Components<'_> {
             Expr::Index(index) => {
                 self.visit_expr_mut(&mut index.index);
                 let span = index.span();
+                let whole = quote::ToTokens::to_token_stream(&*index);
                 // `m[r][c]` on a matrix: nalgebra's `m[(r, c)]`.
                 if let Expr::Index(inner) = &mut *index.expr {
                     self.visit_expr_mut(&mut inner.expr);
@@ -128,14 +132,14 @@ impl VisitMut for Components<'_> {
                         let (row, column) = (&inner.index, &index.index);
                         if let (Some(i), Some(j)) = (literal_index(row), literal_index(column)) {
                             if i >= r || j >= c {
-                                self.errors.at(
-                                    span,
+                                self.errors.push(syn::Error::new_spanned(
+                                    &whole,
                                     format!(
                                         "{} is a {r}×{c} matrix: it has no entry [{i}][{j}]; {}",
                                         describe(&inner.expr),
                                         how_to_read(Shape::Matrix(r, c))
                                     ),
-                                );
+                                ));
                             }
                         }
                         let base = &inner.expr;

@@ -292,3 +292,52 @@ fn marker_at(trees: &[TokenTree]) -> Option<(Kind, Option<Shape>, TokenStream, S
     let expr: TokenStream = inner.into_iter().skip(rest + 1).collect();
     Some((kind, shape, expr, name.span()))
 }
+
+#[cfg(test)]
+mod should {
+    /// The generated code of a model, as text.
+    fn expanded(text: &str) -> String {
+        let tokens: proc_macro2::TokenStream = text.parse().unwrap();
+        crate::expand::expand(tokens).to_string()
+    }
+
+    /// The text of the generated function `name`, up to the next function.
+    fn function<'a>(code: &'a str, name: &str) -> &'a str {
+        let start = code
+            .find(&format!("fn {name}"))
+            .unwrap_or_else(|| panic!("no fn {name} in {code}"));
+        let rest = &code[start + 3..];
+        &rest[..rest.find(" fn ").unwrap_or(rest.len())]
+    }
+
+    #[test]
+    fn keep_parameter_expressions_out_of_the_evaluation() {
+        let code = expanded(
+            "model M {
+                param m = 2.0; param a = 0.1; param k = 4.0; param freq = 1.0;
+                Se s = (2.0 * core::f64::consts::PI * freq * t).sin();
+                I[3] body { f = p.component_div(&box_inertia(m, a, a, a)) };
+                I mass = m; C c = (k / m).sqrt();
+                1 v; 1 w; Se[3] torque = vec3(1.0, 0.0, 0.0);
+                s -> v -> { mass, c }; torque -> w -> body;
+            }",
+        );
+        let derivatives = function(&code, "derivatives");
+        let derive = function(&code, "__derive");
+        for constant in ["box_inertia", "sqrt"] {
+            assert!(
+                !derivatives.contains(constant),
+                "{constant} in {derivatives}"
+            );
+            assert!(derive.contains(constant), "{constant} not in {derive}");
+        }
+        // A function of time is computed in f64 in each evaluation, then lifted.
+        assert!(derivatives.contains("lift"), "{derivatives}");
+        assert!(!derive.contains("freq"), "{derive}");
+        assert!(derivatives.contains(". sin ()"), "{derivatives}");
+        assert!(
+            !code.contains(crate::hoist::MARKER),
+            "a marker left in {code}"
+        );
+    }
+}
