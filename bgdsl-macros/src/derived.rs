@@ -194,7 +194,13 @@ impl Derived {
                     let inputs = quote!(self.inputs);
                     let binds = bind_f64(graph, &hoisted.expr, &self_params, Some(&inputs));
                     let expr = &hoisted.expr;
-                    quote_spanned!(span=> let #ident = #lift({ #binds #expr });)
+                    // Of a type the compiler may not know: lifted if it is a number,
+                    // vector or matrix, passed through if not (a flag, a user's enum).
+                    quote_spanned!(span=> let #ident = {
+                        #[allow(unused_imports)]
+                        use ::bgdsl_runtime::lift::{ViaIdentity as _, ViaLift as _};
+                        (&::bgdsl_runtime::lift::Lifting::<Scalar, _>::new({ #binds #expr })).lift_value()
+                    };)
                 }
             }
         });

@@ -34,6 +34,51 @@ pub fn lift<S: Scalar, V: Lift<S>>(value: V) -> V::Output {
     value.lift()
 }
 
+/// A value computed in `f64` on its way into the scalar type `S`, for generated code
+/// that does not know the value's type: [`ViaLift`] lifts what implements [`Lift`]
+/// (numbers, vectors, matrices), [`ViaIdentity`] passes anything else through
+/// unchanged (an integer, a flag, a user's enum). Call
+/// `(&Lifting::<S, _>::new(value)).lift_value()` with both traits in scope: method
+/// resolution prefers `ViaLift` when it applies.
+pub struct Lifting<S, V>(V, core::marker::PhantomData<S>);
+
+impl<S, V> Lifting<S, V> {
+    /// Wraps `value`.
+    pub fn new(value: V) -> Self {
+        Lifting(value, core::marker::PhantomData)
+    }
+}
+
+/// The preferred way through [`Lifting`]: a value with a counterpart in `S`.
+pub trait ViaLift {
+    /// The counterpart.
+    type Output;
+    /// The value in the scalar type.
+    fn lift_value(&self) -> Self::Output;
+}
+
+impl<S: Scalar, V: Lift<S> + Copy> ViaLift for Lifting<S, V> {
+    type Output = V::Output;
+    fn lift_value(&self) -> V::Output {
+        self.0.lift()
+    }
+}
+
+/// The fallback way through [`Lifting`]: any other value, unchanged.
+pub trait ViaIdentity {
+    /// The value's own type.
+    type Output;
+    /// The value itself.
+    fn lift_value(&self) -> Self::Output;
+}
+
+impl<S, V: Clone> ViaIdentity for &Lifting<S, V> {
+    type Output = V;
+    fn lift_value(&self) -> V {
+        self.0.clone()
+    }
+}
+
 #[cfg(test)]
 mod should {
     use super::*;
@@ -47,5 +92,25 @@ mod should {
         let v = lift::<DualN<2>, _>(vec3(1.0, 2.0, 3.0));
         assert_eq!((v.y.value(), *v.y.tangents()), (2.0, [0.0, 0.0]));
         assert_eq!(lift::<f64, _>(vec3(1.0, 2.0, 3.0)), vec3(1.0, 2.0, 3.0));
+    }
+
+    #[derive(Clone, Debug, PartialEq)]
+    enum Mode {
+        Fast,
+    }
+
+    #[test]
+    fn lift_what_has_a_counterpart_and_pass_anything_else_through() {
+        #[allow(unused_imports)]
+        use super::{ViaIdentity as _, ViaLift as _};
+        let x: DualN<1> = (&Lifting::<DualN<1>, _>::new(2.0)).lift_value();
+        assert_eq!((x.value(), *x.tangents()), (2.0, [0.0]));
+        let v = (&Lifting::<DualN<1>, _>::new(vec3(1.0, 2.0, 3.0))).lift_value();
+        assert_eq!(v.z.value(), 3.0);
+        assert_eq!(
+            (&Lifting::<DualN<1>, _>::new(Mode::Fast)).lift_value(),
+            Mode::Fast
+        );
+        assert_eq!((&Lifting::<DualN<1>, _>::new(3_i32)).lift_value(), 3);
     }
 }
