@@ -18,6 +18,53 @@ pub fn normalise(expr: &mut Expr, env: &dyn ShapeEnv, errors: &mut Errors) {
     Components { env, errors }.visit_expr_mut(expr);
 }
 
+/// Checks and normalises the component accesses in the model's initial values, `f64`
+/// expressions in the parameters. (Parameter defaults see earlier parameters as plain
+/// arrays, not nalgebra values, and are left as they are.)
+pub fn normalise_initial_values(graph: &mut crate::ir::Graph, errors: &mut Errors) {
+    let shapes: Vec<(String, Shape)> = graph
+        .params
+        .iter()
+        .map(|p| (p.name.to_string(), p.shape))
+        .collect();
+    let mut check = |expr: &mut Expr| {
+        let env = ParamShapes {
+            shapes: &shapes,
+            locals: crate::rewrite::local_names(expr),
+        };
+        normalise(expr, &env, errors);
+    };
+    for init in &mut graph.inits {
+        check(&mut init.value);
+    }
+    for state in &mut graph.kinematics {
+        check(&mut state.init);
+    }
+}
+
+/// The shapes of the parameters, shadowed by an expression's local bindings.
+struct ParamShapes<'a> {
+    shapes: &'a [(String, Shape)],
+    locals: std::collections::BTreeSet<String>,
+}
+
+impl ShapeEnv for ParamShapes<'_> {
+    fn name(&self, name: &syn::Ident) -> Option<Shape> {
+        let name = name.to_string();
+        if self.locals.contains(&name) {
+            return None;
+        }
+        self.shapes
+            .iter()
+            .find(|(known, _)| *known == name)
+            .map(|&(_, shape)| shape)
+    }
+
+    fn signal(&self, _: &syn::Ident, _: &syn::Ident) -> Option<Shape> {
+        None
+    }
+}
+
 struct Components<'a> {
     env: &'a dyn ShapeEnv,
     errors: &'a mut Errors,

@@ -758,6 +758,7 @@ impl Resolver {
             let context = format!("the derivative of state `{}`", state.name);
             lint(&state.der, &lookup, &[], &context, &mut self.errors);
         }
+        crate::components::normalise_initial_values(&mut self.graph, &mut self.errors);
     }
 }
 

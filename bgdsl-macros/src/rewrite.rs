@@ -380,7 +380,7 @@ impl Linter<'_> {
 /// `if let` bindings). They shadow elements, parameters and own variables, as in Rust;
 /// scoping is taken as the whole expression, which only errs towards leaving a name to
 /// rustc to resolve.
-fn local_names(expr: &Expr) -> BTreeSet<String> {
+pub fn local_names(expr: &Expr) -> BTreeSet<String> {
     struct Collector(BTreeSet<String>);
     impl<'ast> syn::visit::Visit<'ast> for Collector {
         fn visit_pat_ident(&mut self, pat: &'ast syn::PatIdent) {

@@ -68,6 +68,7 @@ bond_graph! {
         I coil = 1.0;
         1 s;
         push -> s -> { spring, coil };
+        init coil.p = M[0][1] + K.z;
         output vx = vel.f.x;
         output pz = mass.p[2];
         output py = pos.y;
@@ -159,7 +160,8 @@ mod should {
     }
 
     /// `.x` `.y` `.z`, `[i]`, `[r][c]` and `[(r, c)]` read the same components on
-    /// signals, storage and kinematic states and parameters.
+    /// signals, storage and kinematic states and parameters, in laws, outputs, `der` and
+    /// initial values.
     #[test]
     fn read_components_of_every_kind_of_value() {
         let model = Components::default();
@@ -167,6 +169,9 @@ mod should {
             Components::STATE_NAMES,
             ["mass.p_x", "mass.p_y", "mass.p_z", "spring.q", "coil.p", "pos_x", "pos_y", "pos_z"]
         );
+        let mut x0 = [0.0; 8];
+        model.initial_state(&mut x0);
+        assert_eq!(x0[4], 2.0 + 3.0, "init coil.p = M[0][1] + K.z");
         let x = [0.5, 1.5, 2.5, 0.1, 0.2, 7.0, 8.0, 9.0];
         let mut dx = [0.0; 8];
         model.derivatives(0.0, &x, &mut dx);
