@@ -115,9 +115,12 @@ fn how_to_read(shape: Shape) -> String {
                 .collect::<Vec<_>>()
                 .join(", ");
             if n <= 4 {
-                format!("read its components as {fields} or [0] to [{}]", n - 1)
+                format!(
+                    "read its components as {fields} or [0] to [{}]",
+                    n.saturating_sub(1)
+                )
             } else {
-                format!("read its components as [0] to [{}]", n - 1)
+                format!("read its components as [0] to [{}]", n.saturating_sub(1))
             }
         }
         Shape::Matrix(r, c) => format!(
