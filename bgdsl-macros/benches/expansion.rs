@@ -15,6 +15,10 @@ mod causality;
 mod codegen;
 #[path = "../src/compliance.rs"]
 mod compliance;
+#[path = "../src/components.rs"]
+mod components;
+#[path = "../src/derived.rs"]
+mod derived;
 #[path = "../src/dims.rs"]
 mod dims;
 #[path = "../src/equations.rs"]
@@ -25,6 +29,8 @@ mod errors;
 mod expand;
 #[path = "../src/flatten.rs"]
 mod flatten;
+#[path = "../src/hoist.rs"]
+mod hoist;
 #[path = "../src/ir.rs"]
 mod ir;
 #[path = "../src/keywords.rs"]
@@ -35,6 +41,8 @@ mod power;
 mod resolve;
 #[path = "../src/rewrite.rs"]
 mod rewrite;
+#[path = "../src/shapes.rs"]
+mod shapes;
 #[path = "../src/signals.rs"]
 mod signals;
 #[path = "../src/split.rs"]

@@ -32,9 +32,13 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             input: p.input,
         })
         .collect();
-    let host = host_interface(vis, name, &params);
-    let params_struct = params_struct(vis, name, &params);
     let params_ident = params_ident(name);
+    let derived = collect_derived(equations);
+    let refresh = derived
+        .has_cache()
+        .then(|| quote!(self.__derived = Self::__derive(&self.params);));
+    let host = host_interface(vis, name, &params, refresh);
+    let params_struct = params_struct(vis, name, &params);
     let state_names: Vec<String> = equations
         .states
         .iter()
@@ -108,7 +112,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         &output_docs,
     );
     let graph_const = graph_description(graph, causality);
-    let body = evaluation_body(graph, equations);
+    let body = evaluation_body(graph, equations, &derived);
     let (check_inverses, debug_inverses) = inverse_checks(graph, equations, &body);
     let power = crate::power::account(graph, equations);
     let scalar = quote!(Scalar);
@@ -159,20 +163,56 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         model_items,
         with_inputs,
     } = host;
-    quote! {
+    // The derived-value cache, when the model has parameter expressions to keep.
+    let (derived_field, derived_value, derive_fn, default_derive, default_impl) =
+        if derived.has_cache() {
+            let cache_type = crate::derived::Derived::cache_type(name);
+            let cache_struct = derived.cache_struct(name, &params_ident);
+            (
+                quote! {
+                    /// The model's parameter expressions, computed from `params` (see
+                    /// `__derive`).
+                    __derived: #cache_type,
+                },
+                quote!(__derived: Self::__derive(&params),),
+                derived.derive_fn(graph, name, &params_ident),
+                quote!(),
+                quote! {
+                    #cache_struct
+
+                    impl ::core::default::Default for #name {
+                        fn default() -> Self {
+                            Self::new(::core::default::Default::default())
+                        }
+                    }
+                },
+            )
+        } else {
+            (
+                quote!(),
+                quote!(),
+                quote!(),
+                quote!(::core::default::Default,),
+                quote!(),
+            )
+        };
+    let tokens = quote! {
         #unit_warnings
         #params_struct
         #inputs_struct
 
         #(#attrs)*
         #model_doc
-        #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #[derive(::core::clone::Clone, ::core::fmt::Debug, #default_derive ::core::cmp::PartialEq)]
         #vis struct #name {
             /// The parameters the model evaluates with.
             pub params: #params_ident,
             /// The inputs, set by the host between steps.
             pub inputs: #inputs_ident,
+            #derived_field
         }
+
+        #default_impl
 
         impl #name {
             /// The number of states.
@@ -184,10 +224,13 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             /// The model with the given parameters.
             pub fn new(params: #params_ident) -> Self {
                 Self {
+                    #derived_value
                     params,
                     inputs: ::core::default::Default::default(),
                 }
             }
+
+            #derive_fn
         }
 
         #record_struct_state
@@ -256,7 +299,30 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         }
 
         #with_inputs
-    }
+    };
+    derived.replace(tokens)
+}
+
+/// The parameter expressions hoisted out of every law, modulus, `der` and output.
+fn collect_derived(equations: &Equations) -> crate::derived::Derived {
+    let laws = equations.ordered.iter().filter_map(|eq| match &eq.rhs {
+        Rhs::Law { expr, .. } => Some(expr.to_token_stream()),
+        Rhs::Scaled { modulus, .. } => Some(modulus.to_token_stream()),
+        _ => None,
+    });
+    let ders = equations.states.iter().filter_map(|s| match &s.derivative {
+        Derivative::Expr(der) => Some(der.expr.to_token_stream()),
+        Derivative::Term(_) => None,
+    });
+    let outputs = equations.outputs.iter().map(|o| o.expr.to_token_stream());
+    // A given inverse and its modulus are evaluated again by `Model::check`.
+    let inverses = equations.inverses.iter().flat_map(|check| {
+        [
+            check.modulus.to_token_stream(),
+            check.inverse.to_token_stream(),
+        ]
+    });
+    crate::derived::Derived::collect(laws.chain(ders).chain(outputs).chain(inverses))
 }
 
 /// What the macro emits for a model with mistakes: its items with the right names
@@ -287,7 +353,7 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             _ => None,
         })
         .collect();
-    let host = host_interface(vis, name, &params);
+    let host = host_interface(vis, name, &params, None);
     let params_struct = params_struct(vis, name, &params);
     let no_fields: &[Ident] = &[];
     let state = record_struct(
@@ -427,7 +493,14 @@ struct HostInterface {
     with_inputs: TokenStream,
 }
 
-fn host_interface(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> HostInterface {
+/// `refresh` recomputes what the model derives from its parameters, after
+/// `set_parameter_values` wrote them.
+fn host_interface(
+    vis: &Visibility,
+    model: &Ident,
+    declared: &[ParamDecl],
+    refresh: Option<TokenStream>,
+) -> HostInterface {
     let (inputs, params): (Vec<&ParamDecl>, Vec<&ParamDecl>) =
         declared.iter().partition(|p| p.input);
     let inputs_ident = format_ident!("{}Inputs", model);
@@ -461,6 +534,7 @@ fn host_interface(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> Ho
         fn set_parameter_values(&mut self, __values: &[#f64_ty]) {
             ::core::assert_eq!(__values.len(), #n_values, "parameter vector length");
             #(#writes)*
+            #refresh
         }
     };
     let names: Vec<&Ident> = inputs.iter().map(|p| p.name).collect();
@@ -732,7 +806,7 @@ fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
 }
 
 /// The Rust type of a value of `shape` with entries of type `scalar`.
-fn value_type(shape: Shape, scalar: &TokenStream) -> TokenStream {
+pub fn value_type(shape: Shape, scalar: &TokenStream) -> TokenStream {
     match shape {
         Shape::Scalar => scalar.clone(),
         Shape::Vector(n) => quote!(::bgdsl_runtime::multibond::SVector<#scalar, #n>),
@@ -798,27 +872,51 @@ fn component_names(base: &str, shape: Shape) -> Vec<String> {
     }
 }
 
-/// Each output's shape: as declared, else a plain signal reference's, else a number.
+/// Each output's shape: as declared, else its expression's (a signal, a component of
+/// one, a parameter, a product of them, ...), else a number.
 fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
+    let mut state_of = vec![None; graph.elements.len()];
+    let mut kinematic_state = vec![0; graph.kinematics.len()];
+    for (i, state) in equations.states.iter().enumerate() {
+        if let Some(element) = state.element {
+            state_of[element.0] = Some(i);
+        }
+        if let Some(k) = state.kinematic {
+            kinematic_state[k] = i;
+        }
+    }
+    let scope = crate::rewrite::Scope {
+        graph,
+        state_of: &state_of,
+        kinematic_state: &kinematic_state,
+    };
     graph
         .outputs
         .iter()
-        .zip(&equations.outputs)
-        .map(
-            |(output, rewritten)| match (output.shape, &output.expr, rewritten.deps.as_slice()) {
-                (Some(shape), _, _) => shape,
-                (None, Expr::Field(_), [signal]) => equations.shape_of(graph, *signal),
-                _ => Shape::Scalar,
-            },
-        )
+        .map(|output| {
+            let locals = std::collections::BTreeSet::new();
+            let env = crate::rewrite::Env {
+                scope: &scope,
+                locals: &locals,
+            };
+            output
+                .shape
+                .or_else(|| crate::shapes::shape(&output.expr, &env))
+                .unwrap_or(Shape::Scalar)
+        })
         .collect()
 }
 
 /// Binds time, parameters and states, then computes every bond variable in order.
-fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
+fn evaluation_body(
+    graph: &Graph,
+    equations: &Equations,
+    derived: &crate::derived::Derived,
+) -> TokenStream {
     let scalar = quote!(Scalar);
     let time = Ident::new("t", Span::call_site());
     let params = bind_params(graph, &scalar);
+    let hoisted = derived.bindings(graph);
     let states = equations.states.iter().zip(equations.offsets()).enumerate().map(|(i, (state, offset))| {
         let ident = Signal::State(i).ident(Span::call_site());
         let ty = value_type(state.shape, &scalar);
@@ -882,6 +980,7 @@ fn evaluation_body(graph: &Graph, equations: &Equations) -> TokenStream {
     quote! {
         let #time: Scalar = <Scalar as ::bgdsl_runtime::Scalar>::from_f64(__t);
         #params
+        #hoisted
         #(#states)*
         #(#assignments)*
     }

@@ -11,16 +11,20 @@
 mod causality;
 mod codegen;
 mod compliance;
+mod components;
+mod derived;
 mod dims;
 mod equations;
 mod errors;
 mod expand;
 mod flatten;
+mod hoist;
 mod ir;
 mod keywords;
 mod power;
 mod resolve;
 mod rewrite;
+mod shapes;
 mod signals;
 mod split;
 mod stdlib;
@@ -249,6 +253,39 @@ mod value_shape;
 ///
 /// Parameter defaults and initial conditions are `f64` expressions in the parameters
 /// declared before them.
+///
+/// ### Parameter expressions
+///
+/// A sub-expression that reads only parameters and constants (`f64` constants such as
+/// `core::f64::consts::PI` or a user's `UPPER_CASE` constant, calls of the user's
+/// `f64` functions and of methods on such values: `box_inertia(m, a, b, c)`, `(k /
+/// m).sqrt()`) is an `f64` expression computed once: the model keeps its value in a
+/// private cache that `new` and `Model::set_parameter_values` recompute (parameters
+/// written directly into `params` are detected and read fresh). One that also reads `t`
+/// or an input is computed in `f64` once per evaluation (`v0 * (2.0 *
+/// core::f64::consts::PI * freq * t).sin()`). Both enter the law as constants of the
+/// scalar type (`bgdsl_runtime::lift`). The cache holds numbers, vectors and matrices
+/// whose shape the compiler can tell (parameters, arithmetic, the `multibond`
+/// helpers); any other constant expression (a user's function returning a vector, a
+/// block) is computed per evaluation, still in `f64`.
+///
+/// ### Components
+///
+/// `.x` `.y` `.z` (`.w`) and `[i]` read a vector's components, `[(r, c)]`, `[r][c]`
+/// and `.m11` .. (from 1) a matrix's entries, on every value alike: parameters, storage
+/// and kinematic states, signals (`vel.f.x`, `mass.p[2]`, `K.y`). A component a value
+/// does not have (`.z` on a number, `[3]` on a 3-vector) is a compile error at it.
+///
+/// ### Names
+///
+/// A bare lowercase name that the expression does not bind itself (`let`, closure
+/// parameters, patterns) must be a parameter, element, bond label or state of the
+/// model, `t`, or the element's own variable; otherwise it is an "unknown name" error
+/// at the name, with the nearest model name as a did-you-mean, reported with the
+/// model's other mistakes (in laws, outputs, `der`, initial values and parameter
+/// defaults). A name in call position (`my_function(k)`), a path with `::`, method and
+/// field names, and names starting with an upper-case letter (constants, unit structs,
+/// enum variants) are left to rustc.
 ///
 /// ## What is generated
 ///

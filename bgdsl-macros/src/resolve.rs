@@ -146,6 +146,7 @@ impl Resolver {
                     param.name, param.name
                 ),
             );
+            self.poisoned.insert(param.name.to_string());
             return;
         }
         if RESERVED_NAMES.contains(&param.name.to_string().as_str()) {
@@ -157,6 +158,7 @@ impl Resolver {
                     param.name
                 ),
             );
+            self.poisoned.insert(param.name.to_string());
             return;
         }
         if self.claim(&param.name, Named::Param) {
@@ -737,21 +739,42 @@ impl Resolver {
     /// Checks the names every law and output uses (see [`crate::rewrite::lint`]), so
     /// such mistakes are reported together with the structural ones.
     fn lint_expressions(&mut self) {
-        use crate::rewrite::{lint, Named as Target};
+        use crate::rewrite::{lint, Named as Target, Vocabulary};
         let graph = &self.graph;
-        let lookup = |name: &Ident| -> Option<Target> {
-            if let Some(id) = graph
-                .element_ids()
-                .find(|&id| graph.element(id).name == *name)
-            {
-                return Some(Target::Element(graph.element(id).kind, graph.describe(id)));
-            }
-            graph
-                .bonds
-                .iter()
-                .any(|b| b.label.as_ref() == Some(name))
-                .then_some(Target::Bond)
-        };
+        let mut lookup = Vocabulary::default();
+        for id in graph.element_ids() {
+            let element = graph.element(id);
+            lookup.add(
+                &element.name,
+                Target::Element(element.kind, graph.describe(id)),
+            );
+        }
+        for label in graph.bonds.iter().filter_map(|b| b.label.as_ref()) {
+            lookup.add(label, Target::Bond);
+        }
+        for param in &graph.params {
+            lookup.add(&param.name, Target::Param);
+        }
+        for state in &graph.kinematics {
+            lookup.add(&state.name, Target::State);
+        }
+        // Names whose declaration failed were reported (or were declared but left out
+        // of the graph for a reported reason): they are not unknown.
+        for name in self.poisoned.iter().chain(self.names.keys()) {
+            lookup.tolerate(name);
+        }
+        for param in &graph.params {
+            let context = format!("the default of parameter `{}`", param.name);
+            lint(&param.default, &lookup, &[], &context, &mut self.errors);
+        }
+        for init in &graph.inits {
+            let context = "an initial condition".to_string();
+            lint(&init.value, &lookup, &[], &context, &mut self.errors);
+        }
+        for state in &graph.kinematics {
+            let context = format!("the initial value of state `{}`", state.name);
+            lint(&state.init, &lookup, &[], &context, &mut self.errors);
+        }
         for id in graph.element_ids() {
             let element = graph.element(id);
             let context = format!("the law of {}", graph.describe(id));
@@ -781,6 +804,7 @@ impl Resolver {
             let context = format!("the derivative of state `{}`", state.name);
             lint(&state.der, &lookup, &[], &context, &mut self.errors);
         }
+        crate::components::normalise_initial_values(&mut self.graph, &mut self.errors);
     }
 }
 
@@ -796,7 +820,8 @@ pub fn suggestion(name: &Ident, known: &[String]) -> String {
         .unwrap_or_default()
 }
 
-fn edit_distance(a: &str, b: &str) -> usize {
+/// The Levenshtein distance between `a` and `b`.
+pub fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {

@@ -15,7 +15,7 @@ use syn::spanned::Spanned;
 use syn::visit_mut::VisitMut;
 use syn::{Expr, ExprLit, Ident, Lit, LitFloat, Member};
 
-use crate::ir::{ElementId, ElementKind, Graph};
+use crate::ir::{ElementId, ElementKind, Graph, Shape};
 use crate::signals::{Signal, Term};
 
 /// What an expression may refer to besides parameters and `t`.
@@ -38,17 +38,126 @@ pub struct Rewritten {
 
 /// Rewrites `expr` in `scope`, reporting unknown signals into `errors`.
 pub fn rewrite(expr: &Expr, scope: &Scope, errors: &mut crate::errors::Errors) -> Rewritten {
+    let locals = local_names(expr);
+    let mut expr = expr.clone();
+    crate::components::normalise(
+        &mut expr,
+        &Env {
+            scope,
+            locals: &locals,
+        },
+        errors,
+    );
     let mut rewriter = Rewriter {
         scope,
         errors,
         deps: Vec::new(),
-        locals: local_names(expr),
+        locals,
+        numeric: true,
     };
-    let mut expr = expr.clone();
     rewriter.visit_expr_mut(&mut expr);
     Rewritten {
         expr,
         deps: rewriter.deps,
+    }
+}
+
+/// Names as an expression sees them: the model's, shadowed by its own local bindings.
+pub struct Env<'a> {
+    /// The model.
+    pub scope: &'a Scope<'a>,
+    /// The expression's local bindings.
+    pub locals: &'a BTreeSet<String>,
+}
+
+impl Env<'_> {
+    /// What a bare name is, for [`crate::hoist::class`].
+    fn leaf(&self, name: &Ident) -> crate::hoist::Leaf {
+        use crate::hoist::Leaf;
+        let word = name.to_string();
+        let graph = self.scope.graph;
+        if self.locals.contains(&word) || ["e", "f", "q", "p"].contains(&word.as_str()) {
+            return Leaf::Varying;
+        }
+        if word == "t" {
+            return Leaf::Timed;
+        }
+        if let Some(param) = graph.params.iter().find(|p| p.name == *name) {
+            return if param.input {
+                Leaf::Timed
+            } else {
+                Leaf::Parameter
+            };
+        }
+        let known = graph.kinematics.iter().any(|k| k.name == *name)
+            || graph
+                .element_ids()
+                .any(|id| graph.element(id).name == *name)
+            || graph.bonds.iter().any(|b| b.label.as_ref() == Some(name));
+        if known {
+            Leaf::Varying
+        } else {
+            Leaf::Other
+        }
+    }
+
+    /// The shape of a signal.
+    pub fn signal_shape(&self, signal: Signal) -> Shape {
+        let graph = self.scope.graph;
+        match signal {
+            Signal::Effort(b) | Signal::Flow(b) => Shape::of_dimension(graph.bond_dims[b.0]),
+            Signal::State(i) => {
+                if let Some(k) = self.scope.kinematic_state.iter().position(|&s| s == i) {
+                    return graph.kinematics[k].shape;
+                }
+                let element = self.scope.state_of.iter().position(|&s| s == Some(i));
+                element
+                    .and_then(|e| graph.elements[e].bonds.first())
+                    .map_or(Shape::Scalar, |b| Shape::of_dimension(graph.bond_dims[b.0]))
+            }
+        }
+    }
+}
+
+impl crate::shapes::ShapeEnv for Env<'_> {
+    fn name(&self, name: &Ident) -> Option<Shape> {
+        let word = name.to_string();
+        if self.locals.contains(&word) {
+            return None;
+        }
+        let graph = self.scope.graph;
+        if word == "t" {
+            return Some(Shape::Scalar);
+        }
+        if let Some(param) = graph.params.iter().find(|p| p.name == *name) {
+            return Some(param.shape);
+        }
+        graph
+            .kinematics
+            .iter()
+            .find(|k| k.name == *name)
+            .map(|k| k.shape)
+    }
+
+    fn signal(&self, base: &Ident, member: &Ident) -> Option<Shape> {
+        if self.locals.contains(&base.to_string()) {
+            return None;
+        }
+        let graph = self.scope.graph;
+        if let Some(id) = graph
+            .element_ids()
+            .find(|&id| graph.element(id).name == *base)
+        {
+            if let Some(dissolved) = graph.dissolved(id) {
+                return Some(Shape::Vector(dissolved.components.len()));
+            }
+            let term = element_signal(graph, self.scope.state_of, id, &member.to_string()).ok()?;
+            return Some(self.signal_shape(term.signal));
+        }
+        let bond = graph
+            .bond_ids()
+            .find(|&b| graph.bond(b).label.as_ref() == Some(base))?;
+        Some(Shape::of_dimension(graph.bond_dims[bond.0]))
     }
 }
 
@@ -122,24 +231,90 @@ fn has_signal(kind: ElementKind, member: &str) -> bool {
 }
 
 /// What a name in an expression refers to, as checking needs it.
+#[derive(Clone)]
 pub enum Named {
     /// An element: its kind and how messages name it.
     Element(ElementKind, String),
     /// A bond label.
     Bond,
+    /// A parameter or input.
+    Param,
+    /// A kinematic state.
+    State,
+}
+
+impl Named {
+    /// What kind of name it is, for a did-you-mean.
+    fn kind(&self) -> &'static str {
+        match self {
+            Named::Element(..) => "element",
+            Named::Bond => "bond",
+            Named::Param => "parameter",
+            Named::State => "state",
+        }
+    }
+}
+
+/// Every name of a model an expression may use.
+#[derive(Default)]
+pub struct Vocabulary {
+    names: Vec<(Ident, Named)>,
+    /// Names not to report as unknown (their declaration failed and was reported).
+    tolerated: BTreeSet<String>,
+}
+
+impl Vocabulary {
+    /// Never reports `name` as unknown.
+    pub fn tolerate(&mut self, name: &str) {
+        self.tolerated.insert(name.to_string());
+    }
+
+    /// Adds a name.
+    pub fn add(&mut self, name: &Ident, named: Named) {
+        self.names.push((name.clone(), named));
+    }
+
+    fn lookup(&self, name: &Ident) -> Option<Named> {
+        self.names
+            .iter()
+            .find(|(known, _)| known == name)
+            .map(|(_, named)| named.clone())
+    }
+
+    /// ``; help: did you mean the parameter `force`?`` for the nearest name one or two
+    /// edits away (as the user writes it: `crank.tip` for an instance's part).
+    fn suggestion(&self, name: &Ident) -> String {
+        let written = crate::flatten::display(&name.to_string());
+        let candidates: Vec<String> = self
+            .names
+            .iter()
+            .map(|(known, _)| crate::flatten::display(&known.to_string()))
+            .collect();
+        let best = candidates
+            .iter()
+            .zip(&self.names)
+            .map(|(k, (_, named))| (crate::resolve::edit_distance(&written, k), k, named.kind()))
+            .filter(|(d, k, _)| *d <= 2.min(k.chars().count().saturating_sub(1).max(1)))
+            .min_by_key(|(d, _, _)| *d);
+        match best {
+            Some((_, known, kind)) => format!("\nhelp: did you mean the {kind} `{known}`?"),
+            None => String::new(),
+        }
+    }
 }
 
 /// Checks the names an expression uses, before any causality is known: signals the
-/// element has, elements not used as values, and own variables that exist here.
+/// element has, elements not used as values, own variables that exist here, and names
+/// the model does not have (see [`Linter`]).
 pub fn lint(
     expr: &Expr,
-    lookup: &dyn Fn(&Ident) -> Option<Named>,
+    vocabulary: &Vocabulary,
     own: &[&str],
     context: &str,
     errors: &mut crate::errors::Errors,
 ) {
     let mut linter = Linter {
-        lookup,
+        vocabulary,
         own,
         context,
         errors,
@@ -148,8 +323,17 @@ pub fn lint(
     syn::visit::Visit::visit_expr(&mut linter, expr);
 }
 
+/// The name checks of [`lint`].
+///
+/// A bare lowercase name that the expression does not bind itself (`let`, closure
+/// parameters, patterns), that is not `t`, an own variable, nor in call position
+/// (`my_function(k)`: a function of the user's scope), must be a name of the model:
+/// otherwise it is an "unknown name" error at the name, with the nearest model name as
+/// a did-you-mean. Paths (`core::f64::consts::PI`), method and field names, and names
+/// that start with an upper-case letter (constants, unit structs and enum variants of
+/// the user's scope, by Rust's naming convention) are left to rustc.
 struct Linter<'a> {
-    lookup: &'a dyn Fn(&Ident) -> Option<Named>,
+    vocabulary: &'a Vocabulary,
     own: &'a [&'a str],
     context: &'a str,
     errors: &'a mut crate::errors::Errors,
@@ -161,7 +345,31 @@ impl Linter<'_> {
         if self.locals.contains(&name.to_string()) {
             return None;
         }
-        (self.lookup)(name)
+        self.vocabulary.lookup(name)
+    }
+
+    /// Reports `name` if it must be a model name and is not one.
+    fn check_known(&mut self, name: &Ident) {
+        let word = name.to_string();
+        let word = word.strip_prefix("r#").unwrap_or(&word);
+        let must_be_known = word.starts_with(|c: char| c.is_lowercase() || c == '_')
+            && word != "t"
+            && word != "self"
+            && !self.locals.contains(word)
+            && !self.vocabulary.tolerated.contains(word)
+            && !["e", "f", "q", "p"].contains(&word);
+        if must_be_known && self.lookup(name).is_none() {
+            let shown = crate::flatten::display(word);
+            self.errors.at(
+                name.span(),
+                format!(
+                    "unknown name `{shown}` in {}: the model has no parameter, element, bond \
+                     or state of that name{}",
+                    self.context,
+                    self.vocabulary.suggestion(name)
+                ),
+            );
+        }
     }
 }
 
@@ -169,7 +377,7 @@ impl Linter<'_> {
 /// `if let` bindings). They shadow elements, parameters and own variables, as in Rust;
 /// scoping is taken as the whole expression, which only errs towards leaving a name to
 /// rustc to resolve.
-fn local_names(expr: &Expr) -> BTreeSet<String> {
+pub fn local_names(expr: &Expr) -> BTreeSet<String> {
     struct Collector(BTreeSet<String>);
     impl<'ast> syn::visit::Visit<'ast> for Collector {
         fn visit_pat_ident(&mut self, pat: &'ast syn::PatIdent) {
@@ -197,6 +405,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                             }
                             return;
                         }
+                        Some(Named::Param) | Some(Named::State) => {}
                         Some(Named::Bond) => {
                             if word != "e" && word != "f" {
                                 self.errors.at(
@@ -213,6 +422,15 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                 }
                 syn::visit::visit_expr_field(self, field);
             }
+            Expr::Call(call) => {
+                // A function's name is not a value.
+                if !matches!(&*call.func, Expr::Path(_)) {
+                    self.visit_expr(&call.func);
+                }
+                for arg in &call.args {
+                    self.visit_expr(arg);
+                }
+            }
             Expr::Path(_) => {
                 let Some(name) = as_ident(expr) else { return };
                 let word = name.to_string();
@@ -225,6 +443,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                         name.span(),
                         format!("bond `{name}` is not a value: read `{name}.e` or `{name}.f`"),
                     ),
+                    Some(Named::Param) | Some(Named::State) => {}
                     None if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.own.contains(&word.as_str()) && !self.locals.contains(&word) => {
                         let own = if self.own.is_empty() {
                             "none: refer to signals by element, e.g. `spring.q`".to_string()
@@ -236,7 +455,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                             format!("`{word}` is not available in {}; its own variables are {own}", self.context),
                         );
                     }
-                    None => {}
+                    None => self.check_known(name),
                 }
             }
             Expr::Macro(_) => {}
@@ -266,6 +485,9 @@ struct Rewriter<'s, 'e> {
     errors: &'e mut crate::errors::Errors,
     deps: Vec<Signal>,
     locals: BTreeSet<String>,
+    /// Whether the expression being visited stands where a number goes (an operand,
+    /// an argument, a branch's value), so a parameter expression there may be hoisted.
+    numeric: bool,
 }
 
 impl Rewriter<'_, '_> {
@@ -387,8 +609,61 @@ fn int_to_float(expr: &mut Expr) {
     }
 }
 
+impl Rewriter<'_, '_> {
+    /// Replaces `expr` by a hoisting marker if it is a parameter expression worth
+    /// hoisting where a number goes (see [`crate::hoist`]).
+    fn hoisted(&mut self, expr: &mut Expr) -> bool {
+        use crate::hoist::{class, hoistable, marker, Class, Kind};
+        if !self.numeric || !hoistable(expr) {
+            return false;
+        }
+        let env = Env {
+            scope: self.scope,
+            locals: &self.locals,
+        };
+        // A bare parameter is bound in the scalar type already.
+        if let Expr::Path(path) = expr {
+            if path
+                .path
+                .get_ident()
+                .is_some_and(|name| env.leaf(name) != crate::hoist::Leaf::Other)
+            {
+                return false;
+            }
+        }
+        let kind = match class(expr, &|name| env.leaf(name)) {
+            Class::Varying => return false,
+            Class::Timed => Kind::PerCall,
+            Class::Constant => Kind::Cached,
+        };
+        let shape = crate::shapes::shape(expr, &env);
+        let kind = if shape.is_some() { kind } else { Kind::PerCall };
+        *expr = marker(kind, shape, expr);
+        true
+    }
+
+    /// Visits `expr` standing where a number goes (`numeric`) or not.
+    fn visit_at(&mut self, expr: &mut Expr, numeric: bool) {
+        let outer = std::mem::replace(&mut self.numeric, numeric);
+        self.visit_expr_mut(expr);
+        self.numeric = outer;
+    }
+}
+
 impl VisitMut for Rewriter<'_, '_> {
     fn visit_expr_mut(&mut self, expr: &mut Expr) {
+        if self.hoisted(expr) {
+            return;
+        }
+        let outer = self.numeric;
+        self.numeric = true;
+        self.visit_children(expr);
+        self.numeric = outer;
+    }
+}
+
+impl Rewriter<'_, '_> {
+    fn visit_children(&mut self, expr: &mut Expr) {
         match expr {
             Expr::Field(field) => {
                 if let (Some(base), Member::Named(member)) = (as_ident(&field.base), &field.member)
@@ -438,7 +713,51 @@ impl VisitMut for Rewriter<'_, '_> {
                     int_to_float(&mut binary.left);
                     int_to_float(&mut binary.right);
                 }
-                syn::visit_mut::visit_expr_binary_mut(self, binary);
+                self.visit_at(&mut binary.left, numeric);
+                self.visit_at(&mut binary.right, numeric);
+            }
+            Expr::Unary(unary) => {
+                let numeric = matches!(unary.op, syn::UnOp::Neg(_));
+                self.visit_at(&mut unary.expr, numeric);
+            }
+            Expr::If(branch) => {
+                self.visit_at(&mut branch.cond, false);
+                syn::visit_mut::visit_block_mut(self, &mut branch.then_branch);
+                if let Some((_, otherwise)) = &mut branch.else_branch {
+                    self.visit_at(otherwise, true);
+                }
+            }
+            Expr::Match(choice) => {
+                self.visit_at(&mut choice.expr, false);
+                for arm in &mut choice.arms {
+                    if let Some((_, guard)) = &mut arm.guard {
+                        self.visit_at(guard, false);
+                    }
+                    self.visit_at(&mut arm.body, true);
+                }
+            }
+            Expr::Index(index) => {
+                self.visit_at(&mut index.expr, true);
+                self.visit_at(&mut index.index, false);
+            }
+            Expr::Cast(cast) => self.visit_at(&mut cast.expr, false),
+            Expr::Let(binding) => self.visit_at(&mut binding.expr, false),
+            Expr::MethodCall(call) => {
+                self.visit_at(&mut call.receiver, true);
+                // `powi` takes an integer.
+                let numeric = call.method != "powi";
+                for arg in &mut call.args {
+                    self.visit_at(arg, numeric);
+                }
+            }
+            Expr::Call(call) => {
+                // A function's name is not a value.
+                if !matches!(&*call.func, Expr::Path(_)) {
+                    self.visit_at(&mut call.func, false);
+                }
+                for arg in &mut call.args {
+                    self.visit_at(arg, true);
+                }
             }
             Expr::Path(_) => {
                 let Some(name) = as_ident(expr).cloned() else {

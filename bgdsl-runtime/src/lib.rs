@@ -33,6 +33,7 @@ pub mod error;
 pub mod graph;
 #[cfg(feature = "std")]
 pub mod jacobian;
+pub mod lift;
 #[cfg(feature = "std")]
 mod linalg;
 mod math;

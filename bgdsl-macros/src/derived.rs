@@ -1,0 +1,349 @@
+//! Code for the parameter expressions the rewriter hoisted (see [`crate::hoist`]): the
+//! model's derived-value cache and the bindings that lift hoisted values into the
+//! scalar type at the start of every evaluation.
+//!
+//! The cache is a private field of the model, `(Params, values...)`: the parameters
+//! it was computed from, then one `f64`, vector or matrix per constant expression. The
+//! constructor and `set_parameter_values` compute it; an evaluation reads it when it
+//! was computed from the current parameters and otherwise computes it afresh on the
+//! stack (so a parameter written directly into the public `params` field is never read
+//! stale, only slower).
+
+use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
+use quote::{format_ident, quote, quote_spanned};
+
+use crate::hoist::{hidden_span, Kind, MARKER};
+use crate::ir::{Graph, Shape};
+
+/// One hoisted expression.
+struct Hoisted {
+    kind: Kind,
+    shape: Option<Shape>,
+    /// The expression in its `f64` form.
+    expr: TokenStream,
+    /// Where the user wrote it.
+    span: Span,
+    /// Its text, to find the same expression written twice.
+    key: String,
+}
+
+/// Every hoisted expression of a model, each once.
+#[derive(Default)]
+pub struct Derived {
+    list: Vec<Hoisted>,
+}
+
+impl Derived {
+    /// Gathers the markers in `streams` (every law, modulus, `der` and output of the
+    /// model), in order of first appearance.
+    pub fn collect(streams: impl IntoIterator<Item = TokenStream>) -> Self {
+        let mut derived = Derived::default();
+        for stream in streams {
+            derived.find(stream);
+        }
+        derived
+    }
+
+    fn find(&mut self, stream: TokenStream) {
+        let trees: Vec<TokenTree> = stream.into_iter().collect();
+        let mut i = 0;
+        while i < trees.len() {
+            if let Some((kind, shape, expr, span)) = marker_at(&trees[i..]) {
+                let key = format!("{kind:?} {shape:?} {expr}");
+                // The marker's own content has no markers: hoisting takes whole
+                // expressions.
+                if !self.list.iter().any(|h| h.key == key) {
+                    self.list.push(Hoisted {
+                        kind,
+                        shape,
+                        expr,
+                        span,
+                        key,
+                    });
+                }
+                i += 3;
+                continue;
+            }
+            if let TokenTree::Group(group) = &trees[i] {
+                self.find(group.stream());
+            }
+            i += 1;
+        }
+    }
+
+    /// `stream` with every marker replaced by the variable holding its lifted value.
+    pub fn replace(&self, stream: TokenStream) -> TokenStream {
+        let trees: Vec<TokenTree> = stream.into_iter().collect();
+        let mut out = TokenStream::new();
+        let mut i = 0;
+        while i < trees.len() {
+            if let Some((kind, shape, expr, span)) = marker_at(&trees[i..]) {
+                let key = format!("{kind:?} {shape:?} {expr}");
+                if let Some(k) = self.list.iter().position(|h| h.key == key) {
+                    out.extend(std::iter::once(TokenTree::Ident(value_ident(k, span))));
+                    i += 3;
+                    continue;
+                }
+            }
+            match &trees[i] {
+                TokenTree::Group(group) => {
+                    let mut replaced =
+                        proc_macro2::Group::new(group.delimiter(), self.replace(group.stream()));
+                    replaced.set_span(group.span());
+                    out.extend(std::iter::once(TokenTree::Group(replaced)));
+                }
+                other => out.extend(std::iter::once(other.clone())),
+            }
+            i += 1;
+        }
+        out
+    }
+
+    fn cached(&self) -> impl Iterator<Item = (usize, &Hoisted, Shape)> {
+        self.list
+            .iter()
+            .enumerate()
+            .filter_map(|(k, h)| match (h.kind, h.shape) {
+                (Kind::Cached, Some(shape)) => Some((k, h, shape)),
+                _ => None,
+            })
+    }
+
+    /// Whether the model has a cache at all.
+    pub fn has_cache(&self) -> bool {
+        self.cached().next().is_some()
+    }
+
+    /// The cache's type: `__FooDerived`.
+    pub fn cache_type(model: &Ident) -> Ident {
+        format_ident!("__{}Derived", model)
+    }
+
+    /// The cache's struct: the parameters it was computed from, then each value.
+    pub fn cache_struct(&self, model: &Ident, params: &Ident) -> TokenStream {
+        let f64_type = quote!(::core::primitive::f64);
+        let ident = Self::cache_type(model);
+        let fields = self.cached().map(|(k, _, shape)| {
+            let field = format_ident!("v{}", k);
+            let ty = crate::codegen::value_type(shape, &f64_type);
+            quote!(#field: #ty,)
+        });
+        let doc = format!("The parameter expressions of [`{model}`], computed once.");
+        quote! {
+            #[doc = #doc]
+            #[doc(hidden)]
+            #[derive(::core::clone::Clone, ::core::fmt::Debug, ::core::cmp::PartialEq)]
+            #[allow(non_camel_case_types)]
+            struct #ident {
+                params: #params,
+                #(#fields)*
+            }
+        }
+    }
+
+    /// `fn __derive(params) -> cache`: every constant expression in `f64`.
+    pub fn derive_fn(&self, graph: &Graph, model: &Ident, params: &Ident) -> TokenStream {
+        let f64_type = quote!(::core::primitive::f64);
+        let cache_type = Self::cache_type(model);
+        let source = quote!(__params);
+        let values = self.cached().map(|(k, hoisted, shape)| {
+            let field = format_ident!("v{}", k);
+            let ty = crate::codegen::value_type(shape, &f64_type);
+            let binds = bind_f64(graph, &hoisted.expr, &source, None);
+            let expr = &hoisted.expr;
+            quote_spanned!(hoisted.span=> #field: { let __value: #ty = { #binds #expr }; __value },)
+        });
+        quote! {
+            /// The values of the model's parameter expressions for `__params`.
+            #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
+            fn __derive(__params: &#params) -> #cache_type {
+                #[allow(unused_imports)]
+                use ::bgdsl_runtime::Scalar as _;
+                #cache_type {
+                    params: ::core::clone::Clone::clone(__params),
+                    #(#values)*
+                }
+            }
+        }
+    }
+
+    /// The start of an evaluation: each hoisted value, lifted into the scalar type.
+    pub fn bindings(&self, graph: &Graph) -> TokenStream {
+        let lift = quote!(::bgdsl_runtime::lift::lift::<Scalar, _>);
+        let cache = self.has_cache().then(|| {
+            quote! {
+                let __derived_now;
+                let __derived = if self.__derived.params == self.params {
+                    &self.__derived
+                } else {
+                    __derived_now = Self::__derive(&self.params);
+                    &__derived_now
+                };
+            }
+        });
+        let binds = self.list.iter().enumerate().map(|(k, hoisted)| {
+            let ident = value_ident(k, hoisted.span);
+            let span = hoisted.span;
+            match (hoisted.kind, hoisted.shape) {
+                (Kind::Cached, Some(_)) => {
+                    let field = format_ident!("v{}", k);
+                    quote_spanned!(span=> let #ident = #lift(__derived.#field);)
+                }
+                _ => {
+                    let self_params = quote!(self.params);
+                    let inputs = quote!(self.inputs);
+                    let binds = bind_f64(graph, &hoisted.expr, &self_params, Some(&inputs));
+                    let expr = &hoisted.expr;
+                    // Of a type the compiler may not know: lifted if it is a number,
+                    // vector or matrix, passed through if not (a flag, a user's enum).
+                    quote_spanned!(span=> let #ident = {
+                        #[allow(unused_imports)]
+                        use ::bgdsl_runtime::lift::{ViaIdentity as _, ViaLift as _};
+                        (&::bgdsl_runtime::lift::Lifting::<Scalar, _>::new({ #binds #expr })).lift_value()
+                    };)
+                }
+            }
+        });
+        let binds: Vec<TokenStream> = binds.collect();
+        quote! {
+            #cache
+            #(#binds)*
+        }
+    }
+}
+
+/// The variable holding hoisted value `k`.
+fn value_ident(k: usize, span: Span) -> Ident {
+    format_ident!("__h{}", k, span = hidden_span(span))
+}
+
+/// Binds, in `f64`, the parameters, and in an evaluation (`inputs` given) the inputs
+/// and `t`, that `expr` names.
+fn bind_f64(
+    graph: &Graph,
+    expr: &TokenStream,
+    params: &TokenStream,
+    inputs: Option<&TokenStream>,
+) -> TokenStream {
+    let mut names = std::collections::BTreeSet::new();
+    idents(expr.clone(), &mut names);
+    let f64_type = quote!(::core::primitive::f64);
+    let binds = graph
+        .params
+        .iter()
+        .filter(|p| names.contains(&p.name.to_string()) && (inputs.is_some() || !p.input))
+        .map(|p| {
+            let name = &p.name;
+            let ty = crate::codegen::value_type(p.shape, &f64_type);
+            let value = match (p.shape, inputs) {
+                (_, Some(inputs)) if p.input => quote!(#inputs.#name),
+                (Shape::Scalar, _) => quote!(#params.#name),
+                (Shape::Vector(_), _) => {
+                    quote!(::bgdsl_runtime::multibond::vector_param(&#params.#name))
+                }
+                (Shape::Matrix(..), _) => {
+                    quote!(::bgdsl_runtime::multibond::matrix_param(&#params.#name))
+                }
+            };
+            quote!(let #name: #ty = #value;)
+        });
+    let time = (inputs.is_some() && names.contains("t")).then(|| {
+        let t = Ident::new("t", Span::call_site());
+        quote!(let #t: #f64_type = __t;)
+    });
+    quote!(#(#binds)* #time)
+}
+
+fn idents(stream: TokenStream, out: &mut std::collections::BTreeSet<String>) {
+    for tree in stream {
+        match tree {
+            TokenTree::Ident(ident) => {
+                out.insert(ident.to_string());
+            }
+            TokenTree::Group(group) => idents(group.stream(), out),
+            _ => {}
+        }
+    }
+}
+
+/// The marker at the start of `trees`, if there is one: its kind, shape, expression
+/// and span.
+fn marker_at(trees: &[TokenTree]) -> Option<(Kind, Option<Shape>, TokenStream, Span)> {
+    let [TokenTree::Ident(name), TokenTree::Punct(bang), TokenTree::Group(body), ..] = trees else {
+        return None;
+    };
+    if name != MARKER || bang.as_char() != '!' || body.delimiter() != Delimiter::Brace {
+        return None;
+    }
+    let inner: Vec<TokenTree> = body.stream().into_iter().collect();
+    let word = |i: usize| match inner.get(i) {
+        Some(TokenTree::Ident(ident)) => Some(ident.to_string()),
+        _ => None,
+    };
+    let number = |i: usize| match inner.get(i) {
+        Some(TokenTree::Literal(lit)) => lit.to_string().parse::<usize>().ok(),
+        _ => None,
+    };
+    let kind = match word(0)?.as_str() {
+        "cached" => Kind::Cached,
+        _ => Kind::PerCall,
+    };
+    let (shape, rest) = match word(1)?.as_str() {
+        "scalar" => (Some(Shape::Scalar), 2),
+        "vector" => (Some(Shape::Vector(number(2)?)), 3),
+        "matrix" => (Some(Shape::Matrix(number(2)?, number(3)?)), 4),
+        _ => (None, 2),
+    };
+    // `;` then the expression.
+    let expr: TokenStream = inner.into_iter().skip(rest + 1).collect();
+    Some((kind, shape, expr, name.span()))
+}
+
+#[cfg(test)]
+mod should {
+    /// The generated code of a model, as text.
+    fn expanded(text: &str) -> String {
+        let tokens: proc_macro2::TokenStream = text.parse().unwrap();
+        crate::expand::expand(tokens).to_string()
+    }
+
+    /// The text of the generated function `name`, up to the next function.
+    fn function<'a>(code: &'a str, name: &str) -> &'a str {
+        let start = code
+            .find(&format!("fn {name}"))
+            .unwrap_or_else(|| panic!("no fn {name} in {code}"));
+        let rest = &code[start + 3..];
+        &rest[..rest.find(" fn ").unwrap_or(rest.len())]
+    }
+
+    #[test]
+    fn keep_parameter_expressions_out_of_the_evaluation() {
+        let code = expanded(
+            "model M {
+                param m = 2.0; param a = 0.1; param k = 4.0; param freq = 1.0;
+                Se s = (2.0 * core::f64::consts::PI * freq * t).sin();
+                I[3] body { f = p.component_div(&box_inertia(m, a, a, a)) };
+                I mass = m; C c = (k / m).sqrt();
+                1 v; 1 w; Se[3] torque = vec3(1.0, 0.0, 0.0);
+                s -> v -> { mass, c }; torque -> w -> body;
+            }",
+        );
+        let derivatives = function(&code, "derivatives");
+        let derive = function(&code, "__derive");
+        for constant in ["box_inertia", "sqrt"] {
+            assert!(
+                !derivatives.contains(constant),
+                "{constant} in {derivatives}"
+            );
+            assert!(derive.contains(constant), "{constant} not in {derive}");
+        }
+        // A function of time is computed in f64 in each evaluation, then lifted.
+        assert!(derivatives.contains("lift"), "{derivatives}");
+        assert!(!derive.contains("freq"), "{derive}");
+        assert!(derivatives.contains(". sin ()"), "{derivatives}");
+        assert!(
+            !code.contains(crate::hoist::MARKER),
+            "a marker left in {code}"
+        );
+    }
+}
