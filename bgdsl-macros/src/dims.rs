@@ -495,7 +495,7 @@ mod should {
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert!(
             errors[0].starts_with(
-                "TF `proj` joins a 3-dimensional bond at port 1 (from 1-junction `v`) to a scalar \
+                "MTF `proj` joins a 3-dimensional bond at port 1 (from 1-junction `v`) to a scalar \
                  bond at port 2 (to R `d`), so its modulus must be a 1×3 matrix"
             ),
             "{errors:?}"

@@ -180,6 +180,8 @@ pub fn shape(expr: &Expr, env: &dyn ShapeEnv) -> Option<Shape> {
                     Some(receiver)
                 }
                 Matrix(r, c) if method == "transpose" => Some(Matrix(c, r)),
+                Vector(n) if method == "transpose" => Some(Matrix(1, n)),
+                Scalar if method == "transpose" => Some(Scalar),
                 _ => None,
             }
         }
@@ -205,6 +207,8 @@ fn product(a: Shape, b: Shape) -> Option<Shape> {
         (Scalar, other) | (other, Scalar) => Some(other),
         (Matrix(r, k), Vector(n)) if k == n => Some(Shape::of_dimension(r)),
         (Matrix(r, k), Matrix(k2, c)) if k == k2 => Some(Matrix(r, c)),
+        // An outer product, n×1 times 1×c.
+        (Vector(n), Matrix(1, c)) => Some(Matrix(n, c)),
         _ => None,
     }
 }

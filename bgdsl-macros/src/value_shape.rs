@@ -1,12 +1,13 @@
-//! The shape of a law's value, where the macro can tell it from the text alone: number
-//! literals, parameters and kinematic states (their shapes are declared), the multibond
-//! helpers (`vec3`, `diag3`, `skew`, `rot_z`, `identity3`, `box_inertia`),
-//! `.transpose()`, and sums and products of those. Anything else (a signal, a user
-//! function, a method the macro does not know) is unknown, and rustc checks it.
+//! The shape of a two-port's modulus or a one-port's law, in the terms the dimension
+//! stage speaks (a number, or an r×c matrix), where the text alone says it: the
+//! expression shapes of [`crate::shapes`] over what the model declares (parameters,
+//! kinematic states, `t`). Anything else (a signal, a user function, a method the
+//! macro does not know) is unknown, and rustc checks it.
 
-use syn::{BinOp, Expr, UnOp};
+use syn::{Expr, Ident};
 
 use crate::ir::{Graph, Shape};
+use crate::shapes::ShapeEnv;
 
 /// A value's shape: a number, or an r×c matrix (a vector is n×1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,13 +28,6 @@ impl ValueShape {
         }
     }
 
-    fn transpose(self) -> Self {
-        match self {
-            ValueShape::Number => ValueShape::Number,
-            ValueShape::Matrix(r, c) => ValueShape::Matrix(c, r),
-        }
-    }
-
     /// "a number", "a 3×1 matrix (a 3-vector)", "a 1×3 matrix".
     pub fn describe(self) -> String {
         match self {
@@ -44,61 +38,38 @@ impl ValueShape {
     }
 }
 
-/// The shape of `expr`, if the text alone says it.
+/// The shape of `expr`, if the text alone says it: [`crate::shapes::shape`] over the
+/// names whose shapes are declared (parameters, kinematic states, `t`). Signals have
+/// no dimension yet when this runs, so they are unknown.
 pub fn infer(expr: &Expr, graph: &Graph) -> Option<ValueShape> {
-    use ValueShape::{Matrix, Number};
-    match expr {
-        Expr::Lit(lit) => match lit.lit {
-            syn::Lit::Float(_) | syn::Lit::Int(_) => Some(Number),
-            _ => None,
-        },
-        Expr::Paren(inner) => infer(&inner.expr, graph),
-        Expr::Group(inner) => infer(&inner.expr, graph),
-        Expr::Unary(unary) if matches!(unary.op, UnOp::Neg(_)) => infer(&unary.expr, graph),
-        Expr::Path(path) => {
-            let name = path.path.get_ident()?;
-            if name == "t" {
-                return Some(Number);
-            }
-            let declared = graph
-                .params
-                .iter()
-                .find(|p| p.name == *name)
-                .map(|p| p.shape)
-                .or_else(|| {
-                    graph
-                        .kinematics
-                        .iter()
-                        .find(|k| k.name == *name)
-                        .map(|k| k.shape)
-                })?;
-            Some(ValueShape::of_declared(declared))
+    crate::shapes::shape(expr, &Declared(graph)).map(ValueShape::of_declared)
+}
+
+/// The shapes a model declares.
+struct Declared<'a>(&'a Graph);
+
+impl ShapeEnv for Declared<'_> {
+    fn name(&self, name: &Ident) -> Option<Shape> {
+        if name == "t" {
+            return Some(Shape::Scalar);
         }
-        Expr::Call(call) => {
-            let Expr::Path(function) = &*call.func else {
-                return None;
-            };
-            let last = function.path.segments.last()?.ident.to_string();
-            match last.as_str() {
-                "vec3" | "box_inertia" => Some(Matrix(3, 1)),
-                "diag3" | "skew" | "rot_z" | "identity3" => Some(Matrix(3, 3)),
-                _ => None,
-            }
-        }
-        Expr::MethodCall(call) if call.method == "transpose" && call.args.is_empty() => {
-            infer(&call.receiver, graph).map(ValueShape::transpose)
-        }
-        Expr::Binary(binary) => {
-            let (left, right) = (infer(&binary.left, graph)?, infer(&binary.right, graph)?);
-            match (binary.op, left, right) {
-                (BinOp::Mul(_), Number, other) | (BinOp::Mul(_), other, Number) => Some(other),
-                (BinOp::Mul(_), Matrix(r, k), Matrix(k2, c)) if k == k2 => Some(Matrix(r, c)),
-                (BinOp::Div(_), other, Number) => Some(other),
-                (BinOp::Add(_) | BinOp::Sub(_), a, b) if a == b => Some(a),
-                _ => None,
-            }
-        }
-        _ => None,
+        let graph = self.0;
+        graph
+            .params
+            .iter()
+            .find(|p| p.name == *name)
+            .map(|p| p.shape)
+            .or_else(|| {
+                graph
+                    .kinematics
+                    .iter()
+                    .find(|k| k.name == *name)
+                    .map(|k| k.shape)
+            })
+    }
+
+    fn signal(&self, _: &Ident, _: &Ident) -> Option<Shape> {
+        None
     }
 }
 
