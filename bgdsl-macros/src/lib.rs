@@ -104,6 +104,9 @@ mod value_shape;
 /// path      := name ("." name)* ("." n)?                   `crank.v`: a port of an instance;
 ///                                                          `s.0`: component 0 of splitter `s`
 /// arrow     := "->" | "-[" label "]->"                     half arrow: power left to right
+/// expr      := a Rust expression over parameters, `t`, signals `name.e` ..., states,
+///              components `v.x` `v[i]` `M[(r, c)]`, `f64` constants and functions
+///                                                          (see Expressions)
 /// ```
 ///
 /// Every statement ends with `;`; a missing one is reported once, after the statement
@@ -138,8 +141,8 @@ mod value_shape;
 /// `MTF frame = R.transpose(), inverse = R;` — without it, the compile error says so (a
 /// skew-symmetric lever arm has no inverse; a non-square modulus has none at all). A
 /// given inverse is checked on numbers (`Model::check`: before every run, when an FMU
-/// leaves initialisation, and in debug builds at every evaluation in `f64`). Helpers for laws are in
-/// `bgdsl_runtime::multibond`: `vec3`, `diag3`, `skew`, `rot_z`, `box_inertia`.
+/// leaves initialisation, and in debug builds at every `f64` evaluation that computes
+/// with it). Helpers for laws are in `bgdsl_runtime::multibond`: `vec3`, `diag3`, `skew`, `rot_z`, `box_inertia`.
 ///
 /// Parameters may be vectors and matrices (`param K: [f64; 3] = [0.0, 1e5, 1e5];`,
 /// rows first), which laws see as nalgebra values. A kinematic state
