@@ -125,18 +125,7 @@ impl crate::shapes::ShapeEnv for Env<'_> {
         if self.locals.contains(&word) {
             return None;
         }
-        let graph = self.scope.graph;
-        if word == "t" {
-            return Some(Shape::Scalar);
-        }
-        if let Some(param) = graph.params.iter().find(|p| p.name == *name) {
-            return Some(param.shape);
-        }
-        graph
-            .kinematics
-            .iter()
-            .find(|k| k.name == *name)
-            .map(|k| k.shape)
+        crate::value_shape::Declared(self.scope.graph).name(name)
     }
 
     fn signal(&self, base: &Ident, member: &Ident) -> Option<Shape> {

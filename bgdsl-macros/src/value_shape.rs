@@ -45,8 +45,8 @@ pub fn infer(expr: &Expr, graph: &Graph) -> Option<ValueShape> {
     crate::shapes::shape(expr, &Declared(graph)).map(ValueShape::of_declared)
 }
 
-/// The shapes a model declares.
-struct Declared<'a>(&'a Graph);
+/// The shapes a model declares: its parameters', its kinematic states' and `t`'s.
+pub struct Declared<'a>(pub &'a Graph);
 
 impl ShapeEnv for Declared<'_> {
     fn name(&self, name: &Ident) -> Option<Shape> {
