@@ -401,7 +401,9 @@ impl Builder<'_> {
                     (_, false) => [(e1, f2, ApplyTranspose), (e2, f1, Apply)],
                 };
                 let (n1, n2) = (graph.bond_dims[b1.0], graph.bond_dims[b2.0]);
-                let multibond = n1 > 1;
+                // A plain number's inverse is its reciprocal: working backwards divides
+                // by it, on a multibond as on a scalar bond.
+                let multibond = n1 > 1 && !crate::split::scalar_modulus(graph, modulus);
                 let inverts = receives_e1;
                 if inverts && n1 != n2 {
                     self.errors
@@ -435,15 +437,22 @@ impl Builder<'_> {
                     }
                     (None, true) => {
                         let name = &element.name;
+                        // Backwards a TF computes port 2's effort, a GY its flow; a
+                        // compliance (TF) or an inertia (GY) at port 2 turns it forwards.
+                        let (keyword, computed, turns_round) = match element.kind {
+                            ElementKind::Tf => ("MTF", "port 2's effort", "a compliance"),
+                            _ => ("MGY", "port 2's flow", "an inertia"),
+                        };
                         self.errors.at(
                             name.span(),
                             format!(
                                 "{} would need the inverse of its modulus: its causality has it \
-                                 receive the effort on port 1, so it must compute port 2's effort and \
+                                 receive the effort on port 1, so it must compute {computed} and \
                                  port 1's flow backwards; a matrix modulus has no inverse unless the \
-                                 law gives one (a skew-symmetric one, like a lever arm's, has none): \
-                                 give it as `MTF {name} = M, inverse = ...;` or change the causality \
-                                 around it (e.g. a compliance at port 2)",
+                                 law gives one (a skew-symmetric one, like a lever arm's, has none; \
+                                 a modulus the compiler can see is a plain number is divided by): \
+                                 give it as `{keyword} {name} = M, inverse = ...;` or change the \
+                                 causality around it (e.g. {turns_round} at port 2)",
                                 graph.describe(id)
                             ),
                         );

@@ -140,7 +140,10 @@ mod value_shape;
 /// makes a multibond two-port work backwards, it needs `M⁻¹`: give it with
 /// `MTF frame = R.transpose(), inverse = R;` — without it, the compile error says so (a
 /// skew-symmetric lever arm has no inverse; a non-square modulus has none at all). A
-/// given inverse is checked on numbers (`Model::check`: before every run, when an FMU
+/// modulus that is a plain number (as the splitters' paragraph below defines it) needs
+/// none: run backwards it is divided by, on a multibond as on a scalar bond (`TF lever
+/// = ratio;` gives `e2 = e1 / ratio`, `f1 = f2 / ratio`; a GY `f2 = e1 / r`,
+/// `f1 = e2 / r`). A given inverse is checked on numbers (`Model::check`: before every run, when an FMU
 /// leaves initialisation, and in debug builds at every `f64` evaluation that computes
 /// with it). Helpers for laws are in `bgdsl_runtime::multibond`: `vec3`, `diag3`, `skew`, `rot_z`, `box_inertia`.
 ///

@@ -1,6 +1,7 @@
 //! Two-ports between bonds of different dimensions: an n₂×n₁ modulus between a
 //! port-1 bond of dimension n₁ and a port-2 bond of dimension n₂, checked against
-//! hand-written equations, the energy account and closed forms.
+//! hand-written equations, the energy account and closed forms; and a TF or GY whose
+//! modulus is a plain number on a 3-D bond, run backwards by dividing by it.
 
 mod common;
 
@@ -297,4 +298,188 @@ fn assert_a_wrong_inverse_at_every_use_in_debug_builds() {
     let model = turned_frame(0.5);
     let mut dx = [0.0; 3];
     model.derivatives(0.25, &[0.0; 3], &mut dx);
+}
+
+bond_graph! {
+    /// A 3-D lever of ratio n run backwards: a spring on port 1 gives it its effort,
+    /// a mass on port 2 its flow, so it computes `e2 = e1 / n` and `f1 = f2 / n`. A
+    /// number's inverse is its reciprocal: no `inverse = ...` is needed.
+    ///
+    /// ```text
+    /// Sf drive ⇀ 0 node ⇀ { C[3] spring, TF lever ⇀ 1 v ⇀ { I[3] mass, R[3] damper } }
+    /// ```
+    pub model LeverRunBackwards {
+        /// mass, kg
+        param m = 2.0;
+        /// spring stiffness, N/m
+        param k = 50.0;
+        /// damping, N·s/m
+        param c = 3.0;
+        /// the lever's ratio, f2 = n f1
+        param ratio = 2.5;
+        /// the drive's velocity, m/s
+        param V: Vector3 = [0.3, -0.2, 0.5];
+
+        Sf drive = V;
+        0 node;
+        C[3] spring = k;
+        TF lever = ratio;
+        1 v;
+        I[3] mass = m;
+        R[3] damper = c;
+
+        drive -> node -> { spring, lever };
+        lever -> v -> { mass, damper };
+
+        output lever_f1: Vector3 = lever.f1;
+        output lever_e2: Vector3 = lever.e2;
+    }
+}
+
+/// The lever by hand: v = p / m, f1 = v / n, e1 = k q, e2 = e1 / n, so
+/// q̇ = V − v / n and ṗ = k q / n − c v.
+fn lever_by_hand(p: &LeverRunBackwardsParams, x: &[f64; 6]) -> ([f64; 6], [f64; 6]) {
+    let mut dx = [0.0; 6];
+    let mut y = [0.0; 6];
+    for i in 0..3 {
+        let (stretch, momentum) = (x[i], x[3 + i]);
+        let v = momentum / p.m;
+        let (f1, e2) = (v / p.ratio, p.k * stretch / p.ratio);
+        dx[i] = p.V[i] - f1;
+        dx[3 + i] = e2 - p.c * v;
+        y[i] = f1;
+        y[3 + i] = e2;
+    }
+    (dx, y)
+}
+
+bond_graph! {
+    /// A 3-D gyrator of modulus r run backwards: springs on both ports give it both
+    /// efforts, so it computes `f2 = e1 / r` and `f1 = e2 / r`.
+    ///
+    /// ```text
+    /// Sf drive ⇀ 0 a ⇀ { C[3] first, GY gyro ⇀ 0 b ⇀ { C[3] second, R[3] leak } }
+    /// ```
+    pub model GyratorRunBackwards {
+        /// first spring's stiffness, N/m
+        param k1 = 40.0;
+        /// second spring's stiffness, N/m
+        param k2 = 70.0;
+        /// the leak's resistance, N·s/m
+        param c = 5.0;
+        /// the gyrator's modulus, e2 = r f1
+        param r = 0.8;
+        /// the drive's velocity, m/s
+        param V: Vector3 = [0.3, -0.2, 0.5];
+
+        Sf drive = V;
+        0 a;
+        C[3] first = k1;
+        GY gyro = r;
+        0 b;
+        C[3] second = k2;
+        R[3] leak = c;
+
+        drive -> a -> { first, gyro };
+        gyro -> b -> { second, leak };
+
+        output gyro_f1: Vector3 = gyro.f1;
+        output gyro_f2: Vector3 = gyro.f2;
+    }
+}
+
+/// The gyrator by hand: e1 = k1 q1, e2 = k2 q2, f2 = e1 / r, f1 = e2 / r, so
+/// q̇1 = V − k2 q2 / r and q̇2 = k1 q1 / r − k2 q2 / c.
+fn gyrator_by_hand(p: &GyratorRunBackwardsParams, x: &[f64; 6]) -> ([f64; 6], [f64; 6]) {
+    let mut dx = [0.0; 6];
+    let mut y = [0.0; 6];
+    for i in 0..3 {
+        let (e1, e2) = (p.k1 * x[i], p.k2 * x[3 + i]);
+        let (f1, f2) = (e2 / p.r, e1 / p.r);
+        dx[i] = p.V[i] - f1;
+        dx[3 + i] = f2 - e2 / p.c;
+        y[i] = f1;
+        y[3 + i] = f2;
+    }
+    (dx, y)
+}
+
+fn assert_close(generated: &[f64], hand: &[f64], what: &str, x: &[f64]) {
+    for (i, (g, h)) in generated.iter().zip(hand).enumerate() {
+        assert!(
+            (g - h).abs() <= 1e-13 * h.abs().max(1.0),
+            "{what} {i} at {x:?}: generated {g} vs hand {h}"
+        );
+    }
+}
+
+/// Seeded states in [−1, 1).
+fn states_of_six(count: usize) -> Vec<[f64; 6]> {
+    let mut rng = common::Rng::new(0x1e7e5);
+    (0..count)
+        .map(|_| std::array::from_fn(|_| rng.uniform(-1.0, 1.0)))
+        .collect()
+}
+
+#[test]
+fn run_a_scalar_lever_on_a_multibond_backwards_by_dividing() {
+    let model = LeverRunBackwards::default();
+    assert_eq!(
+        LeverRunBackwards::STATE_NAMES,
+        [
+            "spring.q_x",
+            "spring.q_y",
+            "spring.q_z",
+            "mass.p_x",
+            "mass.p_y",
+            "mass.p_z"
+        ]
+    );
+    let p = model.params().clone();
+    for x in states_of_six(50) {
+        let (expected_dx, expected_y) = lever_by_hand(&p, &x);
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        assert_close(&dx, &expected_dx, "derivative", &x);
+        let mut y = [0.0; 6];
+        model.outputs(0.0, &x, &mut y);
+        assert_close(&y, &expected_y, "output", &x);
+        // The lever passes power on: d(stored)/dt = input − dissipated.
+        let balance = model.power_balance(0.0, &x).expect("an account");
+        let rate: f64 = (0..3)
+            .map(|i| p.k * x[i] * dx[i] + x[3 + i] / p.m * dx[3 + i])
+            .sum();
+        assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12);
+    }
+}
+
+#[test]
+fn run_a_scalar_gyrator_on_a_multibond_backwards_by_dividing() {
+    let model = GyratorRunBackwards::default();
+    assert_eq!(
+        GyratorRunBackwards::STATE_NAMES,
+        [
+            "first.q_x",
+            "first.q_y",
+            "first.q_z",
+            "second.q_x",
+            "second.q_y",
+            "second.q_z"
+        ]
+    );
+    let p = model.params().clone();
+    for x in states_of_six(50) {
+        let (expected_dx, expected_y) = gyrator_by_hand(&p, &x);
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        assert_close(&dx, &expected_dx, "derivative", &x);
+        let mut y = [0.0; 6];
+        model.outputs(0.0, &x, &mut y);
+        assert_close(&y, &expected_y, "output", &x);
+        let balance = model.power_balance(0.0, &x).expect("an account");
+        let rate: f64 = (0..3)
+            .map(|i| p.k1 * x[i] * dx[i] + p.k2 * x[3 + i] * dx[3 + i])
+            .sum();
+        assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12);
+    }
 }
