@@ -5,7 +5,9 @@
 //! computes its force from the stretch rate, along z (the anchor is massless and
 //! pushed) it computes the stretch rate from the force. No single stroke per multibond
 //! describes that; the model compiles and its equations are checked against ones
-//! written by hand from the physics.
+//! written by hand from the physics. The same mass driven through a transformer
+//! (`Levered`) or a gyrator (`Gyrated`) with a scalar modulus checks the two-ports
+//! taken apart by component, each component taking its own causality through them.
 
 use bgdsl_runtime::{bond_graph, Model, PowerBalance};
 
@@ -314,4 +316,182 @@ fn a_scalar_transformer_on_a_multibond_takes_causality_by_component() {
         let scale = balance.input.abs().max(balance.dissipated.abs()).max(1.0);
         assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12 * scale);
     }
+}
+
+bond_graph! {
+    /// The anchored mass of [`Anchored`] driven through a gyrator of modulus r: a 3-D
+    /// GY with a scalar modulus between the guide and the anchor, taken apart by
+    /// component. A gyrator swaps effort and flow, so along x an effort source moves
+    /// the anchor at `f2 = e1 / r` (the GY runs backwards: it receives both efforts),
+    /// along y a zero effort holds it, and along z a flow source pushes it with
+    /// `e2 = r f1` (the GY runs forwards: it receives both flows).
+    pub model Gyrated {
+        param m = 2.0 in "kg";
+        param k = 50.0 in "N/m";
+        param c = 3.0 in "N·s/m";
+        param cz = 4.0 in "N·s/m";
+        /// the effort set along x, which the gyrator turns into the speed ex / r
+        param ex = 0.6;
+        /// the flow set along z, which the gyrator turns into the push r wz
+        param wz = 0.5;
+        /// the gyrator's modulus, e2 = r f1
+        param r = 0.8;
+
+        I[3] mass = m;
+        C[3] spring = k;
+        GY gyro = r;
+        1 v;
+        1 anchor;
+        0 force;
+        1 stretch;
+        Split[3] guide;
+        Split[3] dampers;
+        Se drive = ex;
+        Se hold = 0.0;
+        Sf pushed = wz;
+        R dx = c;
+        R dy = c;
+        R dz = cz;
+
+        drive -> guide.0;
+        hold -> guide.1;
+        pushed -> guide.2;
+        guide -> gyro -> anchor -> force -> v -> mass;
+        force -> stretch -> spring;
+        stretch -> dampers;
+        dampers.0 -> dx;
+        dampers.1 -> dy;
+        dampers.2 -> dz;
+
+        output anchor_velocity: Vector3 = anchor.f;
+        output gyro_e1: Vector3 = gyro.e1;
+        output gyro_f1: Vector3 = gyro.f1;
+        output gyro_e2: Vector3 = gyro.e2;
+    }
+}
+
+/// The gyrated system by hand: a GY of modulus r has `e2 = r f1` and `e1 = r f2`.
+/// Along x and y the anchor moves at e1 / r and the force the spring-damper puts on
+/// it comes back as f1 = e2 / r; along z it is pushed with r wz and e1 = r f2.
+/// Returns the derivatives, the anchor's velocity and the GY's e1, f1 and e2.
+fn gyrated_by_hand(p: &GyratedParams, x: &[f64; 6]) -> ([f64; 6], [f64; 3], [[f64; 3]; 3]) {
+    let (momentum, stretch) = (&x[0..3], &x[3..6]);
+    let v_mass: Vec<f64> = momentum.iter().map(|p_i| p_i / p.m).collect();
+    let force_z = p.r * p.wz;
+    let v_anchor = [
+        p.ex / p.r,
+        0.0,
+        v_mass[2] + (force_z - p.k * stretch[2]) / p.cz,
+    ];
+    let damping = [p.c, p.c, p.cz];
+    let mut dx = [0.0; 6];
+    let mut port = [[0.0; 3]; 3];
+    for i in 0..3 {
+        let rate = v_anchor[i] - v_mass[i];
+        // The force on the anchor: the spring-damper's (the push along z).
+        let e2 = p.k * stretch[i] + damping[i] * rate;
+        dx[i] = e2;
+        dx[3 + i] = rate;
+        port[0][i] = p.r * v_anchor[i];
+        port[1][i] = e2 / p.r;
+        port[2][i] = e2;
+    }
+    (dx, v_anchor, port)
+}
+
+#[test]
+fn a_scalar_gyrator_on_a_multibond_takes_causality_by_component() {
+    let model = Gyrated::default();
+    let p = &model.params;
+    assert_eq!(Gyrated::STATE_NAMES, Anchored::STATE_NAMES);
+    let close = |generated: f64, hand: f64| (generated - hand).abs() <= 1e-12 * hand.abs().max(1.0);
+    for x in random_states(100) {
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        let (expected, v_anchor, port) = gyrated_by_hand(p, &x);
+        for i in 0..6 {
+            assert!(
+                close(dx[i], expected[i]),
+                "component {i} at {x:?}: generated {} vs hand {}",
+                dx[i],
+                expected[i]
+            );
+        }
+        let mut y = [0.0; 12];
+        model.outputs(0.0, &x, &mut y);
+        for i in 0..3 {
+            assert!(close(y[i], v_anchor[i]), "anchor {i}: {y:?}");
+            for (signal, values) in port.iter().enumerate() {
+                assert!(
+                    close(y[3 * (signal + 1) + i], values[i]),
+                    "port signal {signal}, component {i}: {y:?} vs {port:?}"
+                );
+            }
+        }
+        // What each source sets: e1 along x and y, f1 along z.
+        assert_eq!([y[3], y[4]], [p.ex, 0.0]);
+        assert_eq!(y[8], p.wz);
+        // Along z the push is r wz.
+        assert!(close(y[11], p.r * p.wz), "{y:?}");
+    }
+    // Power: the gyrator neither stores nor loses anything, and the sources supply
+    // ex f1_x (along x) and wz e1_z (along z).
+    for x in random_states(20) {
+        let balance = model.power_balance(0.0, &x).expect("an account");
+        let (_, v_anchor, port) = gyrated_by_hand(p, &x);
+        let supplied = p.ex * port[1][0] + p.wz * port[0][2];
+        assert!(
+            close(balance.input, supplied),
+            "{} vs {supplied}",
+            balance.input
+        );
+        let mut dx = [0.0; 6];
+        model.derivatives(0.0, &x, &mut dx);
+        let rate: f64 = (0..3)
+            .map(|i| x[i] / p.m * dx[i] + p.k * x[3 + i] * dx[3 + i])
+            .sum();
+        let dissipated: f64 = [p.c, p.c, p.cz]
+            .iter()
+            .enumerate()
+            .map(|(i, damping)| damping * (v_anchor[i] - x[i] / p.m).powi(2))
+            .sum();
+        assert!(
+            close(balance.dissipated, dissipated),
+            "{} vs {dissipated}",
+            balance.dissipated
+        );
+        let scale = balance.input.abs().max(balance.dissipated.abs()).max(1.0);
+        assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12 * scale);
+    }
+}
+
+#[test]
+fn the_gyrators_components_take_their_strokes_from_their_sources() {
+    let graph = Gyrated::GRAPH;
+    let find = |group: &str, name: String| {
+        graph
+            .elements
+            .iter()
+            .position(|e| e.group == group && e.name == name)
+            .unwrap_or_else(|| panic!("component {group}.{name}"))
+    };
+    // A GY receives both efforts or both flows: along x and y (effort sources) the
+    // stroke is at the gyrator's component on both its bonds, along z at neither.
+    let strokes: Vec<[bool; 2]> = (0..3)
+        .map(|i| {
+            let part = find("gyro", i.to_string());
+            let (guide, anchor) = (find("guide", i.to_string()), find("anchor", i.to_string()));
+            let stroke = |from: usize, to: usize| {
+                graph
+                    .bonds
+                    .iter()
+                    .find(|b| b.from == from && b.to == to)
+                    .expect("a component's bond")
+                    .stroke_at
+                    == part
+            };
+            [stroke(guide, part), stroke(part, anchor)]
+        })
+        .collect();
+    assert_eq!(strokes, [[true, true], [true, true], [false, false]]);
 }
