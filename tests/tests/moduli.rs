@@ -6,7 +6,7 @@
 mod common;
 
 use bgdsl_runtime::multibond::{vec3, Matrix3, Vector3};
-use bgdsl_runtime::{bond_graph, Model};
+use bgdsl_runtime::{bond_graph, JacobianEvaluator, Model};
 use common::{dopri5, initial_state, run};
 
 bond_graph! {
@@ -451,6 +451,23 @@ fn run_a_scalar_lever_on_a_multibond_backwards_by_dividing() {
             .sum();
         assert!((rate - (balance.input - balance.dissipated)).abs() <= 1e-12);
     }
+    // The solvers' Jacobian (dual numbers through the same division): per component,
+    // ∂q̇/∂p = −1 / (m n), ∂ṗ/∂q = k / n, ∂ṗ/∂p = −c / m, and nothing across components.
+    let mut evaluator = JacobianEvaluator::new(&model);
+    let mut jacobian = [f64::NAN; 36];
+    evaluator.evaluate(
+        &model,
+        0.0,
+        &[0.1, -0.2, 0.3, 0.4, -0.5, 0.6],
+        &mut jacobian,
+    );
+    let mut expected = [0.0; 36];
+    for i in 0..3 {
+        expected[i * 6 + 3 + i] = -1.0 / (p.m * p.ratio);
+        expected[(3 + i) * 6 + i] = p.k / p.ratio;
+        expected[(3 + i) * 6 + 3 + i] = -p.c / p.m;
+    }
+    assert_close(&jacobian, &expected, "Jacobian entry", &[]);
 }
 
 #[test]
