@@ -441,9 +441,9 @@ impl Builder<'_> {
                                 "{} would need the inverse of its modulus: its causality has it \
                                  receive the effort on port 1, so it must compute port 2's effort and \
                                  port 1's flow backwards; a matrix modulus has no inverse unless the \
-                                 law gives one (a skew-symmetric one, like a lever arm's, has none): \
-                                 give it as `MTF {name} = M, inverse = ...;` or change the causality \
-                                 around it (e.g. a compliance at port 2)",
+                                 law gives one (a skew-symmetric one, like a lever arm's, has none)\n\
+                                 help: give it as `MTF {name} = M, inverse = ...;`, or change the \
+                                 causality around it (e.g. a compliance at port 2)",
                                 graph.describe(id)
                             ),
                         );
@@ -718,8 +718,9 @@ fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
         span,
         format!(
             "algebraic loop: {} compute each other's variables at the same instant, so there is \
-             no order to evaluate them in; break the loop with a storage element (a small C or I \
-             where the physics has one), or combine the resistors on the loop into one R",
+             no order to evaluate them in\n\
+             help: break the loop with a storage element (a small C or I where the physics has \
+             one), or combine the resistors on the loop into one R",
             names.join(", ")
         ),
     )

@@ -773,12 +773,12 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             let (given, needed) = if *needs_flow_form {
                 (
                     "e = φ(f)",
-                    format!("its flow from its effort: add `f = ...e...` to `R {el} {{ ... }}`"),
+                    format!("its flow from its effort\nhelp: add `f = ...e...` (the same law solved for f) to `R {el} {{ ... }}`"),
                 )
             } else {
                 (
                     "f = φ(e)",
-                    format!("its effort from its flow: add `e = ...f...` to `R {el} {{ ... }}`"),
+                    format!("its effort from its flow\nhelp: add `e = ...f...` (the same law solved for e) to `R {el} {{ ... }}`"),
                 )
             };
             let mut e = syn::Error::new(
@@ -895,12 +895,14 @@ fn render_conflict(
              splitter takes apart get their components' causalities one by one, but an \
              element acting on the whole vector (a C, I or R[n] with one law, a source, a \
              TF or GY whose modulus may be a matrix) takes one causality for all its \
-             components; write that element as scalar elements behind a splitter (a TF \
-             or GY whose modulus is a plain number, such as `TF lever = n;` with an f64 \
-             `n`, is taken apart by component)"
+             components\n\
+             help: write that element as scalar elements behind a splitter (a TF or GY \
+             whose modulus is a plain number, such as `TF lever = n;` with an f64 `n`, is \
+             taken apart by component)"
         } else {
             "its consequences come back around a loop of junctions, TFs and GYs with the \
-             opposite causality; break the loop with a storage or a resistive element"
+             opposite causality\n\
+             help: break the loop with a storage (C or I) or a resistive (R) element on it"
         };
         // The routes from the element to where they meet (a splitter's are left out:
         // they run through the scalar junctions it was taken apart into).
@@ -934,7 +936,8 @@ fn render_conflict(
                  only through {whole}, which acts on the whole vector and so takes one causality \
                  for all its components (a C, I or R[n] with one law, a source, or a TF or GY \
                  whose modulus may be a matrix: only a plain-number modulus is taken apart by \
-                 component); write that element as scalar elements behind a splitter",
+                 component)\n\
+                 help: write that element as scalar elements behind a splitter",
                 name(second),
                 name(first),
                 name(first)
