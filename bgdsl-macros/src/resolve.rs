@@ -721,7 +721,10 @@ impl Resolver {
                 let what = self.graph.describe(id);
                 self.errors.at(
                     init.element.span(),
-                    format!("{what} has no state; only C (`.q`) and I (`.p`) elements take initial conditions"),
+                    format!(
+                        "{what} has no state; only C (`.q`) and I (`.p`) elements take initial conditions\n\
+                         help: remove this `init`, or give it to the C or I whose state it means"
+                    ),
                 );
                 return;
             }
