@@ -423,7 +423,11 @@ impl Resolver {
             Some((Named::State, _)) => {
                 self.errors.at(
                     name.span(),
-                    format!("`{name}` is a state, not an element: bonds connect elements"),
+                    format!(
+                        "`{name}` is a state, not an element: bonds connect elements\n\
+                         help: to bring its value into the graph, bond an element whose law \
+                         reads it, e.g. a source `Sf drive = {name};`"
+                    ),
                 );
                 None
             }
