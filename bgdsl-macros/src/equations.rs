@@ -450,8 +450,8 @@ impl Builder<'_> {
                                  receive the effort on port 1, so it must compute {computed} and \
                                  port 1's flow backwards; a matrix modulus has no inverse unless the \
                                  law gives one (a skew-symmetric one, like a lever arm's, has none; \
-                                 a modulus the compiler can see is a plain number is divided by): \
-                                 give it as `{keyword} {name} = M, inverse = ...;` or change the \
+                                 a modulus the compiler can see is a plain number is divided by)\n\
+                                 help: give it as `{keyword} {name} = M, inverse = ...;`, or change the \
                                  causality around it (e.g. {turns_round} at port 2)",
                                 graph.describe(id)
                             ),
@@ -727,8 +727,9 @@ fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
         span,
         format!(
             "algebraic loop: {} compute each other's variables at the same instant, so there is \
-             no order to evaluate them in; break the loop with a storage element (a small C or I \
-             where the physics has one), or combine the resistors on the loop into one R",
+             no order to evaluate them in\n\
+             help: break the loop with a storage element (a small C or I where the physics has \
+             one), or combine the resistors on the loop into one R",
             names.join(", ")
         ),
     )

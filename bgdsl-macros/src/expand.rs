@@ -38,7 +38,15 @@ fn try_expand(model: ModelDef) -> syn::Result<TokenStream> {
                 all.combine(next);
                 all
             })
-            .unwrap_or_else(|| syn::Error::new(graph.name.span(), "causality assignment failed"))
+            // `assign` fails only with at least one error; kept so a bug never panics.
+            .unwrap_or_else(|| {
+                syn::Error::new(
+                    graph.name.span(),
+                    "internal error in bgdsl's causality assignment: it failed without naming \
+                     a reason; this is a bug in bond_graph!, not in your model: please report it \
+                     with this model",
+                )
+            })
     })?;
     let equations = equations::derive(&graph, &causality)?;
     Ok(codegen::generate(&graph, &causality, &equations))

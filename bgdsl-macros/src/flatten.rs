@@ -110,7 +110,9 @@ pub fn flatten(
             name.span(),
             format!(
                 "`{name}`: names may not contain `{SEPARATOR}`, which is reserved for the \
-                 parts of submodel instances"
+                 parts of submodel instances\n\
+                 help: rename it without `{SEPARATOR}`, e.g. `{}`",
+                name.to_string().replace(SEPARATOR, "_")
             ),
         ));
     }
@@ -147,7 +149,10 @@ fn expand(
             errors.push(syn::Error::new(
                 name.span(),
                 format!(
-                    "submodel `{submodel}` instantiates itself (nesting deeper than {MAX_DEPTH})"
+                    "submodel `{submodel}` instantiates itself (nesting deeper than {MAX_DEPTH})\n\
+                     help: a submodel cannot contain an instance of itself, directly or through \
+                     the submodels it instantiates: remove the instance of `{submodel}` from its \
+                     own body, or of the submodel that leads back to it"
                 ),
             ));
             continue;
@@ -537,6 +542,7 @@ mod should {
         );
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert!(errors[0].starts_with("`my__spring`: names may not contain `__`"));
+        assert!(errors[0].contains("help: rename it without `__`, e.g. `my_spring`"));
     }
 
     #[test]
@@ -547,5 +553,6 @@ mod should {
         );
         assert_eq!(errors.len(), 1);
         assert!(errors[0].contains("instantiates itself"));
+        assert!(errors[0].contains("\nhelp: a submodel cannot contain an instance of itself"));
     }
 }

@@ -274,7 +274,10 @@ impl Resolver {
         for der in ders.into_iter().flatten() {
             let twice = self.graph.kinematics.iter().any(|k| k.name == der.name);
             let message = if twice {
-                format!("`der {}` is given twice", der.name)
+                format!(
+                    "`der {0}` is given twice\nhelp: keep one `der {0} = ...;` and remove the other",
+                    der.name
+                )
             } else {
                 format!(
                     "`der {0}` names no state: declare it with `state {0}: Type = initial;`",
@@ -357,7 +360,7 @@ impl Resolver {
                     let slot = if var == "e" { &mut effort } else { &mut flow };
                     if slot.is_some() {
                         self.errors
-                            .at(form.var.span(), format!("`{var} = ...` is given twice"));
+                            .at(form.var.span(), format!("`{var} = ...` is given twice\nhelp: keep one `{var} = ...` and remove the other"));
                     }
                     *slot = Some(form.expr);
                 }
@@ -398,21 +401,33 @@ impl Resolver {
             Some((Named::Param, _)) => {
                 self.errors.at(
                     name.span(),
-                    format!("`{name}` is a parameter, not an element: bonds connect elements"),
+                    format!(
+                        "`{name}` is a parameter, not an element: bonds connect elements\n\
+                         help: to bring its value into the graph, bond an element whose law \
+                         reads it, e.g. a source `Se push = {name};`"
+                    ),
                 );
                 None
             }
             Some((Named::Bond, _)) => {
                 self.errors.at(
                     name.span(),
-                    format!("`{name}` is a bond label, not an element: bonds connect elements"),
+                    format!(
+                        "`{name}` is a bond label, not an element: bonds connect elements\n\
+                         help: bond one of the elements that the bond `{name}` joins; its label \
+                         only names it, so that laws can read `{name}.e` and `{name}.f`"
+                    ),
                 );
                 None
             }
             Some((Named::State, _)) => {
                 self.errors.at(
                     name.span(),
-                    format!("`{name}` is a state, not an element: bonds connect elements"),
+                    format!(
+                        "`{name}` is a state, not an element: bonds connect elements\n\
+                         help: to bring its value into the graph, bond an element whose law \
+                         reads it, e.g. a source `Sf drive = {name};`"
+                    ),
                 );
                 None
             }
@@ -467,7 +482,9 @@ impl Resolver {
                             self.errors.at(
                                 to_port.name.span(),
                                 format!(
-                                    "a bond from `{}` to itself connects nothing",
+                                    "a bond from `{0}` to itself connects nothing\n\
+                                     help: a bond joins two different elements: bond `{0}` to \
+                                     the element it exchanges power with, or remove this bond",
                                     from_port.name
                                 ),
                             );
@@ -592,7 +609,13 @@ impl Resolver {
                 } else if ports[i + 1].is_some() {
                     self.errors.at(
                         span,
-                        format!("component {i} of splitter `{shown}` is connected twice"),
+                        format!(
+                            "component {i} of splitter `{shown}` is connected twice; a component \
+                             carries one scalar bond\n\
+                             help: join the two bonds at one junction and bond the junction to \
+                             `{shown}.{i}` once (a 1-junction when they share its flow, a 0-junction \
+                             when they share its effort), or bond this one to a free component"
+                        ),
                     );
                 } else {
                     ports[i + 1] = Some(bond);
@@ -667,10 +690,12 @@ impl Resolver {
                             None
                         }
                         (true, true) => Some(format!(
-                            "both bonds of {what} point into it; a two-port passes power through: one bond in (port 1), one out (port 2)"
+                            "both bonds of {what} point into it; a two-port passes power through: one bond in (port 1), one out (port 2)\n\
+                             help: turn one of the arrows round, so that power comes in on one bond and leaves on the other: `a -> {shown} -> b;`"
                         )),
                         (false, false) => Some(format!(
-                            "both bonds of {what} point out of it; a two-port passes power through: one bond in (port 1), one out (port 2)"
+                            "both bonds of {what} point out of it; a two-port passes power through: one bond in (port 1), one out (port 2)\n\
+                             help: turn one of the arrows round, so that power comes in on one bond and leaves on the other: `a -> {shown} -> b;`"
                         )),
                     }
                 }
@@ -700,7 +725,10 @@ impl Resolver {
                 let what = self.graph.describe(id);
                 self.errors.at(
                     init.element.span(),
-                    format!("{what} has no state; only C (`.q`) and I (`.p`) elements take initial conditions"),
+                    format!(
+                        "{what} has no state; only C (`.q`) and I (`.p`) elements take initial conditions\n\
+                         help: remove this `init`, or give it to the C or I whose state it means"
+                    ),
                 );
                 return;
             }

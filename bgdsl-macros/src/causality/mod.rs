@@ -78,7 +78,12 @@ pub enum CausalityError {
         /// The elements from `forced_by` to the resistor, both ends included.
         path: Vec<ElementId>,
     },
-    /// A junction that ends with no bond, or two, setting its common variable.
+    /// A junction that ends with no bond, or two, setting its common variable: an
+    /// internal invariant, which no input reaches. A successful search has set every
+    /// bond, and the junction rule ran on the last bond set at each junction with all
+    /// its bonds already set, where it accepts exactly one setter and rejects (and
+    /// undoes) anything else; bonds from an element to itself are refused in
+    /// `resolve.rs`. Kept as a spanned error so that a bug here never panics.
     Junction {
         /// The junction.
         junction: ElementId,
@@ -661,6 +666,10 @@ fn crossed_components(
     (!whole.is_empty()).then(|| whole.join(", "))
 }
 
+/// What a C's number means, for every help that suggests writing `C name = k;`
+/// (the same reading as the missing-law message in `resolve.rs`).
+const STIFFNESS: &str = "e = k q";
+
 /// Turns a causality mistake into a message at the user's text.
 pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
     let name = |id: ElementId| graph.describe(id);
@@ -678,35 +687,64 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
             let kind = graph.element(*element).kind;
             let forcer_kind = graph.element(forced_by).kind;
             // The junction the storage sits on, if the path reaches it through one.
-            let junction = path
-                .len()
-                .checked_sub(2)
-                .map(|i| path[i])
-                .filter(|&j| matches!(graph.element(j).kind, ElementKind::Zero | ElementKind::One));
+            let junction =
+                path.len().checked_sub(2).map(|i| path[i]).filter(|&j| {
+                    matches!(graph.element(j).kind, ElementKind::Zero | ElementKind::One)
+                });
+            let shown =
+                |id: ElementId| crate::flatten::display(&graph.element(id).name.to_string());
             let nobody = junction.and_then(|j| match (kind, graph.element(j).kind) {
-                (ElementKind::I, ElementKind::Zero) => Some(format!(
-                    "nothing else sets the effort of {}, so the inertia would have to\n\
-                     help: bond a compliance (C) or a resistance (R) to the junction, which sets its effort",
-                    name(j)
+                (ElementKind::I, ElementKind::Zero) => Some((
+                    format!("nothing else sets the effort of {}, so the inertia would have to", name(j)),
+                    format!(
+                        "bond a compliance (C) or a resistance (R) to `{0}`, which sets its effort: \
+                         `C store = k; {0} -> store;` with k a stiffness ({STIFFNESS})",
+                        shown(j)
+                    ),
                 )),
-                (ElementKind::C, ElementKind::One) => Some(format!(
-                    "nothing else sets the flow of {}, so the compliance would have to\n\
-                     help: bond an inertia (I) or a resistance (R) to the junction, which sets its flow",
-                    name(j)
+                (ElementKind::C, ElementKind::One) => Some((
+                    format!("nothing else sets the flow of {}, so the compliance would have to", name(j)),
+                    format!(
+                        "bond an inertia (I) or a resistance (R) to `{0}`, which sets its flow: \
+                         `I mass = m; {0} -> mass;`",
+                        shown(j)
+                    ),
                 )),
                 _ => None,
             });
-            let mend = match (kind, forcer_kind) {
-                _ if nobody.is_some() => nobody.as_deref().unwrap_or_default(),
-                (ElementKind::I, ElementKind::I) => "the two inertias are rigidly tied; put a compliance (a C, with an R for damping) between them, as mechanism models do with compliant joints, or merge them into one I",
-                (ElementKind::C, ElementKind::C) => "the two compliances share one variable; put a resistance (R) or an inertia (I) between them, or merge them into one C",
-                (ElementKind::I, _) => "its flow is fixed from outside; put a compliance (C, with an R for damping) between it and what fixes it",
-                _ => "its effort is fixed from outside; put a resistance (R) or an inertia (I) between it and what fixes it",
+            let (why, help) = match (kind, forcer_kind) {
+                _ if nobody.is_some() => nobody.unwrap_or_default(),
+                (ElementKind::I, ElementKind::I) => (
+                    "the two inertias are rigidly tied".to_owned(),
+                    format!(
+                        "put a compliance between them, as mechanism models do with compliant \
+                         joints: a 0-junction between the two with `C joint = k;` on it, k a \
+                         stiffness ({STIFFNESS}), and an R for damping; or merge them into one I"
+                    ),
+                ),
+                (ElementKind::C, ElementKind::C) => (
+                    "the two compliances share one variable".to_owned(),
+                    "put a resistance (R) or an inertia (I) between them, or merge them into one C"
+                        .to_owned(),
+                ),
+                (ElementKind::I, _) => (
+                    "its flow is fixed from outside".to_owned(),
+                    format!(
+                        "put a compliance between it and what fixes it: a 0-junction between \
+                         them with `C joint = k;` on it, k a stiffness ({STIFFNESS}), and an R \
+                         for damping"
+                    ),
+                ),
+                _ => (
+                    "its effort is fixed from outside".to_owned(),
+                    "put a resistance (R) or an inertia (I) between it and what fixes it"
+                        .to_owned(),
+                ),
             };
             let mut e = syn::Error::new(
                 span(*element),
                 format!(
-                    "{} is forced into derivative causality by {} (path: {}); {mend}",
+                    "{} is forced into derivative causality by {} (path: {}); {why}\nhelp: {help}",
                     name(*element),
                     name(forced_by),
                     route(graph, path)
@@ -716,18 +754,32 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                 let note = match forcer_kind {
                     ElementKind::Se => format!("note: {} fixes the effort here", name(forced_by)),
                     ElementKind::Sf => format!("note: {} fixes the flow here", name(forced_by)),
-                    _ => format!("note: {} takes integral causality here first", name(forced_by)),
+                    _ => format!(
+                        "note: {} takes integral causality here first",
+                        name(forced_by)
+                    ),
                 };
                 e.combine(syn::Error::new(span(forced_by), note));
             }
             e
         }
-        CausalityError::MissingForm { element, needs_flow_form, forced_by, path } => {
+        CausalityError::MissingForm {
+            element,
+            needs_flow_form,
+            forced_by,
+            path,
+        } => {
             let el = &graph.element(*element).name;
             let (given, needed) = if *needs_flow_form {
-                ("e = φ(f)", format!("its flow from its effort: add `f = ...e...` to `R {el} {{ ... }}`"))
+                (
+                    "e = φ(f)",
+                    format!("its flow from its effort\nhelp: add `f = ...e...` (the same law solved for f) to `R {el} {{ ... }}`"),
+                )
             } else {
-                ("f = φ(e)", format!("its effort from its flow: add `e = ...f...` to `R {el} {{ ... }}`"))
+                (
+                    "f = φ(e)",
+                    format!("its effort from its flow\nhelp: add `e = ...f...` (the same law solved for e) to `R {el} {{ ... }}`"),
+                )
             };
             let mut e = syn::Error::new(
                 span(*element),
@@ -737,17 +789,26 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                     route(graph, path)
                 ),
             );
-            e.combine(syn::Error::new(span(*forced_by), format!("note: {} fixes that causality", name(*forced_by))));
+            e.combine(syn::Error::new(
+                span(*forced_by),
+                format!("note: {} fixes that causality", name(*forced_by)),
+            ));
             e
         }
-        CausalityError::Junction { junction, setters } => syn::Error::new(
-            span(*junction),
-            format!(
-                "{} has {setters} bonds setting its common {}, but needs exactly one; check the elements around it",
+        // Unreachable from any input (see the variant's doc): said as a bug in bgdsl,
+        // still at the junction's text, rather than as advice to the user.
+        CausalityError::Junction { junction, setters } => {
+            syn::Error::new(
+                span(*junction),
+                format!(
+                "internal error in bgdsl's causality assignment: {} ended with {setters} bonds \
+                 setting its common {} although every step kept it at one; this is a bug in \
+                 bond_graph!, not in your model: please report it with this model",
                 name(*junction),
                 if graph.element(*junction).kind == ElementKind::Zero { "effort" } else { "flow" }
             ),
-        ),
+            )
+        }
     }
 }
 
@@ -834,12 +895,14 @@ fn render_conflict(
              splitter takes apart get their components' causalities one by one, but an \
              element acting on the whole vector (a C, I or R[n] with one law, a source, a \
              TF or GY whose modulus may be a matrix) takes one causality for all its \
-             components; write that element as scalar elements behind a splitter (a TF \
-             or GY whose modulus is a plain number, such as `TF lever = n;` with an f64 \
-             `n`, is taken apart by component)"
+             components\n\
+             help: write that element as scalar elements behind a splitter (a TF or GY \
+             whose modulus is a plain number, such as `TF lever = n;` with an f64 `n`, is \
+             taken apart by component)"
         } else {
             "its consequences come back around a loop of junctions, TFs and GYs with the \
-             opposite causality; break the loop with a storage or a resistive element"
+             opposite causality\n\
+             help: break the loop with a storage (C or I) or a resistive (R) element on it"
         };
         // The routes from the element to where they meet (a splitter's are left out:
         // they run through the scalar junctions it was taken apart into).
@@ -873,7 +936,8 @@ fn render_conflict(
                  only through {whole}, which acts on the whole vector and so takes one causality \
                  for all its components (a C, I or R[n] with one law, a source, or a TF or GY \
                  whose modulus may be a matrix: only a plain-number modulus is taken apart by \
-                 component); write that element as scalar elements behind a splitter",
+                 component)\n\
+                 help: write that element as scalar elements behind a splitter",
                 name(second),
                 name(first),
                 name(first)
@@ -893,9 +957,9 @@ fn render_conflict(
             let (common, kind) = if zero { ("effort", "0-junction") } else { ("flow", "1-junction") };
             if twice {
                 let buffer = if zero {
-                    "a resistance (R) or an inertia (I) between one of them and the junction (on a 1-junction)"
+                    "a resistance (R) or an inertia (I) between one of them and the junction (on a 1-junction)".to_owned()
                 } else {
-                    "a compliance (C) or a resistance (R) between one of them and the junction (on a 0-junction)"
+                    format!("a compliance (`C joint = k;` with k a stiffness, {STIFFNESS}) or a resistance (R) between one of them and the junction (on a 0-junction)")
                 };
                 format!(
                     "causal conflict{place}: {} and {} both set its {common}{shown_path}; a {kind} \
@@ -911,10 +975,15 @@ fn render_conflict(
                     ("an inertia (I) or a resistance (R)", "I mass = m;", "efforts")
                 };
                 let shown = crate::flatten::display(&graph.element(j).name.to_string());
+                let stiffness = if zero {
+                    format!(" with k a stiffness ({STIFFNESS})")
+                } else {
+                    String::new()
+                };
                 format!(
                     "causal conflict{place}: nothing sets its {common}{shown_path}: {} and {} both \
                      impose {imposed} on it, and a {kind} needs one bond that sets its {common}\n\
-                     help: bond {setters} to `{shown}`, which sets its {common}: `{example} {shown} -> {};`",
+                     help: bond {setters} to `{shown}`, which sets its {common}: `{example} {shown} -> {};`{stiffness}",
                     name(first),
                     name(second),
                     example.split_whitespace().nth(1).unwrap_or_default()

@@ -263,6 +263,11 @@ proptest! {
             }
             Err(errors) => {
                 prop_assert!(!errors.is_empty());
+                // The end-of-search junction check is an internal invariant.
+                prop_assert!(
+                    !errors.iter().any(|e| matches!(e, CausalityError::Junction { .. })),
+                    "the junction invariant broke: {:?}", errors
+                );
                 prop_assert!(
                     !some_valid_assignment_exists(&graph),
                     "SCAP reported {:?} but a valid assignment exists", errors

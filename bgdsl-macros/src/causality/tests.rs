@@ -90,7 +90,14 @@ fn name_the_inertia_that_forces_another_into_derivative_causality() {
         }]
     );
     let message = render(&g, &errors[0]).to_string();
-    assert!(message.contains("put a compliance (a C"), "{message}");
+    assert!(
+        message.contains("\nhelp: put a compliance between them"),
+        "{message}"
+    );
+    assert!(
+        message.contains("`C joint = k;` on it, k a stiffness (e = k q)"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -215,4 +222,16 @@ fn tell_a_junction_nobody_can_set_from_one_set_twice() {
         message.starts_with("causal conflict at 0-junction `j`: nothing sets its effort"),
         "{message}"
     );
+}
+
+#[test]
+fn say_a_broken_junction_invariant_is_a_bug_in_bgdsl() {
+    let g = graph("model M { Se s = 1.0; R r = 2.0; 1 v; s -> v -> r; }");
+    let error = CausalityError::Junction {
+        junction: id(&g, "v"),
+        setters: 2,
+    };
+    let message = render(&g, &error).to_string();
+    assert!(message.starts_with("internal error in bgdsl's causality assignment: 1-junction `v` ended with 2 bonds setting its common flow"), "{message}");
+    assert!(message.contains("not in your model"), "{message}");
 }
