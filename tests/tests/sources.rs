@@ -5,6 +5,9 @@
 //! the bond leaving the source and once with it entering, and its equations, its
 //! outputs and its power balance are checked against ones written by hand.
 
+mod common;
+use common::{assert_close, seeded_states};
+
 use bgdsl_runtime::{bond_graph, Model, PowerBalance};
 
 bond_graph! {
@@ -164,30 +167,6 @@ bond_graph! {
 
 use bgdsl_runtime::multibond::vec3;
 
-/// A fixed pseudo-random sequence in [-1, 1): the same states on every run.
-fn states<const N: usize>(count: usize) -> Vec<[f64; N]> {
-    let mut seed: u64 = 0x5eed_50ce;
-    let mut next = move || {
-        seed = seed
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    (0..count)
-        .map(|_| std::array::from_fn(|_| next()))
-        .collect()
-}
-
-fn assert_close(got: &[f64], expected: &[f64], what: &str) {
-    assert_eq!(got.len(), expected.len(), "{what}");
-    for (i, (g, e)) in got.iter().zip(expected).enumerate() {
-        assert!(
-            (g - e).abs() <= 1e-13 * e.abs().max(1.0),
-            "{what}[{i}]: generated {g} vs hand {e} (all: {got:?} vs {expected:?})"
-        );
-    }
-}
-
 /// The derivatives at `x` and time `t`.
 fn derivatives<M: Model>(model: &M, t: f64, x: &[f64]) -> Vec<f64> {
     let mut dx = vec![0.0; M::N_STATES];
@@ -213,7 +192,7 @@ fn an_effort_source_pushes_along_its_half_arrow_either_way() {
     let model = EffortSources::default();
     let p = &model.params;
     assert_eq!(EffortSources::STATE_NAMES, ["ma.p", "mb.p"]);
-    for x in states::<2>(50) {
+    for x in seeded_states::<2>(0x5eed_50ce, 50) {
         let (va, vb) = (x[0] / p.m, x[1] / p.m);
         // a: the force pushes along va. b: the bond vb -> in_b takes the force out of
         // the junction, so it acts against vb: a 1-junction with all its bonds
@@ -241,7 +220,7 @@ fn a_flow_source_moves_along_its_half_arrow_either_way() {
     let model = FlowSources::default();
     let p = &model.params;
     assert_eq!(FlowSources::STATE_NAMES, ["ka.q", "kb.q", "ma.p", "mb.p"]);
-    for x in states::<4>(50) {
+    for x in seeded_states::<4>(0x5eed_50ce, 50) {
         let [qa, qb, pa, pb] = x;
         let (va, vb) = (pa / p.m, pb / p.m);
         // a: the source's flow enters sa, so the spring stretches at speed − va.
@@ -270,7 +249,7 @@ fn modulated_sources_follow_the_same_convention() {
     assert_eq!(ModulatedSources::STATE_NAMES, ["m1.p", "m2.p", "spring.q"]);
     let t = 0.8;
     let value = p.rate * t;
-    for x in states::<3>(20) {
+    for x in seeded_states::<3>(0x5eed_50ce, 20) {
         let [p1, p2, q] = x;
         let hand = [-value, p.k * q, -value - p2 / p.m];
         assert_close(&derivatives(&model, t, &x), &hand, "derivatives");
@@ -286,7 +265,7 @@ fn vector_sources_on_bonds_entering_them_act_against_the_arrow() {
     let p = &model.params;
     let force = vec3(p.fx, p.fy, p.fz);
     let speed = vec3(p.vx, p.vy, p.vz);
-    for x in states::<9>(20) {
+    for x in seeded_states::<9>(0x5eed_50ce, 20) {
         // States: m1.p, m2.p, spring.q (declaration order of the storage elements).
         let p1 = vec3(x[0], x[1], x[2]);
         let p2 = vec3(x[3], x[4], x[5]);
@@ -315,7 +294,7 @@ fn vector_sources_on_bonds_entering_them_act_against_the_arrow() {
 fn scalar_flow_sources_behind_a_splitter_follow_their_own_arrows() {
     let model = SplitFlowSources::default();
     let p = &model.params;
-    for x in states::<6>(20) {
+    for x in seeded_states::<6>(0x5eed_50ce, 20) {
         // States: spring.q, mass.p.
         let q = vec3(x[0], x[1], x[2]);
         let momentum = vec3(x[3], x[4], x[5]);

@@ -9,6 +9,9 @@
 //! (`Levered`) or a gyrator (`Gyrated`) with a scalar modulus checks the two-ports
 //! taken apart by component, each component taking its own causality through them.
 
+mod common;
+use common::seeded_states;
+
 use bgdsl_runtime::{bond_graph, Model, PowerBalance};
 
 bond_graph! {
@@ -74,20 +77,6 @@ fn hand_derivatives(p: &AnchoredParams, x: &[f64; 6]) -> [f64; 6] {
     dx
 }
 
-fn random_states(count: usize) -> Vec<[f64; 6]> {
-    // A fixed linear congruential sequence: the same states on every run.
-    let mut seed: u64 = 0x5eed_cafe;
-    let mut next = move || {
-        seed = seed
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    (0..count)
-        .map(|_| std::array::from_fn(|_| next()))
-        .collect()
-}
-
 #[test]
 fn mixed_causality_across_components_gives_the_hand_written_equations() {
     let model = Anchored::default();
@@ -102,7 +91,7 @@ fn mixed_causality_across_components_gives_the_hand_written_equations() {
             "spring.q_z"
         ]
     );
-    for x in random_states(100) {
+    for x in seeded_states::<6>(0x5eed_cafe, 100) {
         let mut dx = [0.0; 6];
         model.derivatives(0.0, &x, &mut dx);
         let expected = hand_derivatives(&model.params, &x);
@@ -141,7 +130,7 @@ fn the_splitter_conserves_power() {
     // d(stored)/dt = input − dissipated at any state: the splitter neither stores nor
     // loses anything, whichever way each component's effort goes.
     let model = Anchored::default();
-    for x in random_states(50) {
+    for x in seeded_states::<6>(0x5eed_cafe, 50) {
         let Some(PowerBalance {
             input, dissipated, ..
         }) = model.power_balance(0.0, &x)
@@ -280,7 +269,7 @@ fn levered_by_hand(p: &LeveredParams, x: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
 fn a_scalar_transformer_on_a_multibond_takes_causality_by_component() {
     let model = Levered::default();
     let p = &model.params;
-    for x in random_states(100) {
+    for x in seeded_states::<6>(0x5eed_cafe, 100) {
         let mut dx = [0.0; 6];
         model.derivatives(0.0, &x, &mut dx);
         let (expected, v_anchor) = levered_by_hand(p, &x);
@@ -306,7 +295,7 @@ fn a_scalar_transformer_on_a_multibond_takes_causality_by_component() {
         assert!((y[3] - p.ratio * force_x).abs() <= 1e-12 * force_x.abs().max(1.0));
     }
     // Power: the lever neither stores nor loses anything.
-    for x in random_states(20) {
+    for x in seeded_states::<6>(0x5eed_cafe, 20) {
         let balance = model.power_balance(0.0, &x).expect("an account");
         let mut dx = [0.0; 6];
         model.derivatives(0.0, &x, &mut dx);
@@ -405,7 +394,7 @@ fn a_scalar_gyrator_on_a_multibond_takes_causality_by_component() {
     let p = &model.params;
     assert_eq!(Gyrated::STATE_NAMES, Anchored::STATE_NAMES);
     let close = |generated: f64, hand: f64| (generated - hand).abs() <= 1e-12 * hand.abs().max(1.0);
-    for x in random_states(100) {
+    for x in seeded_states::<6>(0x5eed_cafe, 100) {
         let mut dx = [0.0; 6];
         model.derivatives(0.0, &x, &mut dx);
         let (expected, v_anchor, port) = gyrated_by_hand(p, &x);
@@ -436,7 +425,7 @@ fn a_scalar_gyrator_on_a_multibond_takes_causality_by_component() {
     }
     // Power: the gyrator neither stores nor loses anything, and the sources supply
     // ex f1_x (along x) and wz e1_z (along z).
-    for x in random_states(20) {
+    for x in seeded_states::<6>(0x5eed_cafe, 20) {
         let balance = model.power_balance(0.0, &x).expect("an account");
         let (_, v_anchor, port) = gyrated_by_hand(p, &x);
         let supplied = p.ex * port[1][0] + p.wz * port[0][2];

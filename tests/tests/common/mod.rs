@@ -94,3 +94,23 @@ pub fn underdamped(y_eq: f64, y0: f64, v0: f64, omega0: f64, alpha: f64, t: f64)
 pub fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
     values.into_iter().fold(0.0, |m, v| m.max(v.abs()))
 }
+
+/// `count` seeded states with every entry uniform in [-1, 1): the same on every run.
+pub fn seeded_states<const N: usize>(seed: u64, count: usize) -> Vec<[f64; N]> {
+    let mut rng = Rng::new(seed);
+    (0..count)
+        .map(|_| std::array::from_fn(|_| rng.symmetric(1.0)))
+        .collect()
+}
+
+/// Asserts that generated values equal hand-written ones to rounding: within
+/// 1e-13 relative (absolute below 1).
+pub fn assert_close(generated: &[f64], hand: &[f64], what: &str) {
+    assert_eq!(generated.len(), hand.len(), "{what}: lengths");
+    for (i, (g, h)) in generated.iter().zip(hand).enumerate() {
+        assert!(
+            (g - h).abs() <= 1e-13 * h.abs().max(1.0),
+            "{what}[{i}]: generated {g} vs hand {h} (all: {generated:?} vs {hand:?})"
+        );
+    }
+}
