@@ -399,7 +399,7 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
             pub const N_OUTPUTS: ::core::primitive::usize = 0;
             /// The causal bond graph.
             pub const GRAPH: ::bgdsl_runtime::CausalGraph =
-                ::bgdsl_runtime::CausalGraph { model: #name_str, elements: &[], bonds: &[] };
+                ::bgdsl_runtime::CausalGraph { model: #name_str, elements: &[], bonds: &[], loops: &[] };
             /// The model with the given parameters.
             pub fn new(params: #params_ident) -> Self {
                 Self {
@@ -1141,6 +1141,7 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             model: #model,
             elements: &[#(#elements),*],
             bonds: &[#(#bonds),*],
+            loops: &[],
         };
     }
 }

@@ -9,6 +9,7 @@
 //! #         GraphElement { name: "mass", group: "", kind: ElementKind::I, modulated: false, causality: ElementCausality::Integral },
 //! #     ],
 //! #     bonds: &[GraphBond { label: None, from: 0, to: 1, dimension: 1, stroke_at: 1 }],
+//! #     loops: &[],
 //! # };
 //! let dot = GRAPH.to_dot(); // or `write!(file, "{}", GRAPH.dot())`
 //! assert!(dot.contains(r#"e0 -> e1 [arrowhead="teelvee", arrowtail="none"];"#));
@@ -281,6 +282,7 @@ impl Display for NodeAttributes<'_> {
             ElementCausality::Resistance => ", resistance causality (e = R(f))",
             ElementCausality::Conductance => ", conductance causality (f = R⁻¹(e))",
             ElementCausality::Fixed => "",
+            ElementCausality::Derivative => ", derivative causality (dependent storage)",
         };
         write!(
             f,

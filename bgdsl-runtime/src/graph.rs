@@ -57,6 +57,10 @@ pub enum ElementCausality {
     Conductance,
     /// Anything whose causality is fixed by its kind (sources, junctions, TF, GY).
     Fixed,
+    /// Storage element in derivative causality (dependent storage, allowed by
+    /// `#[allow(derivative_causality)]`): its co-energy variable follows from the
+    /// independent states, and its state is not a state of the model.
+    Derivative,
 }
 
 /// One element of the graph.
@@ -116,4 +120,8 @@ pub struct CausalGraph {
     pub elements: &'static [GraphElement],
     /// Bonds in declaration order.
     pub bonds: &'static [GraphBond],
+    /// The algebraic loops the model allows (`#[allow(algebraic_loops)]`), each as the
+    /// indices into [`CausalGraph::elements`] of the elements on it; empty for a model
+    /// whose equations are explicit.
+    pub loops: &'static [&'static [usize]],
 }

@@ -69,6 +69,7 @@ const CRANK: CausalGraph = CausalGraph {
         bond(7, 6, 7, 1, None),              // stroke at the tail
         bond(7, 8, 8, 1, Some(r"a\b")),      // stroke at the head, label to escape
     ],
+    loops: &[],
 };
 
 /// The line that draws the edge `e<from> -> e<to>`, exactly one.
@@ -189,6 +190,7 @@ mod should {
                 element("mass", "", I, Integral),
             ],
             bonds: &[bond(0, 1, 1, 1, None), bond(1, 2, 2, 1, Some("p"))],
+            loops: &[],
         };
         let expected = r#"digraph "Push" {
   graph [label="Push", labelloc=t, fontsize=16];
@@ -304,6 +306,7 @@ mod should {
                 element("load", "", R, Resistance),
             ],
             bonds: &[bond(0, 1, 1, 1, None), bond(1, 2, 1, 1, None)],
+            loops: &[],
         };
         let graph = GRAPH;
         let dot = graph.to_dot();
@@ -351,6 +354,7 @@ mod should {
             model: "say \"hi\"\\\n",
             elements: &[element("two\nlines", "g\"1\"", C, Integral)],
             bonds: &[],
+            loops: &[],
         };
         let dot = ODD.to_dot();
         assert!(
@@ -402,6 +406,7 @@ mod should {
                 element("z", "a-b", C, Integral),
             ],
             bonds: &[],
+            loops: &[],
         };
         let dot = CLASH.to_dot();
         let clusters: Vec<Vec<String>> = clusters_of_nodes(&dot)
@@ -432,6 +437,7 @@ mod should {
             model: "Crank",
             elements: Box::leak(elements.into_boxed_slice()),
             bonds: Box::leak(bonds.into_boxed_slice()),
+            loops: &[],
         };
         assert_eq!(copy.to_dot(), first);
     }
@@ -448,6 +454,7 @@ mod should {
                 element("c", "", R, Resistance),
             ],
             bonds: &[bond(1, 0, 2, 1, None), bond(1, 7, 1, 1, None)],
+            loops: &[],
         };
         let dot = BAD.to_dot();
         assert!(
