@@ -4,6 +4,7 @@
 
 #[path = "../../../bgdsl-runtime/tests/support/counting.rs"]
 pub mod counting;
+pub mod implicit;
 pub mod quick_return;
 
 use bgdsl_runtime::{DormandPrinceOptions, Model, Simulation, Solver, Trajectory};
