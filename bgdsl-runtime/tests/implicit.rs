@@ -206,13 +206,11 @@ fn refine_with_two_unknowns_and_two_parameters() {
         [j[1][1] / det, -j[0][1] / det],
         [-j[1][0] / det, j[0][0] / det],
     ];
-    for row in 0..2 {
-        for col in 0..2 {
-            let got = refined[row].tangents()[col];
+    for (row, (z_row, want_row)) in refined.iter().zip(&inverse).enumerate() {
+        for (col, (got, want)) in z_row.tangents().iter().zip(want_row).enumerate() {
             assert!(
-                (got - inverse[row][col]).abs() <= 1e-14,
-                "dz{row}/dθ{col}: {got} against {}",
-                inverse[row][col]
+                (got - want).abs() <= 1e-14,
+                "dz{row}/dθ{col}: {got} against {want}"
             );
         }
     }
