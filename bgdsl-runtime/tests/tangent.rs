@@ -314,7 +314,8 @@ fn mixed_second_derivatives_of_binary_functions() {
 #[test]
 fn singular_point_conventions() {
     let zero_tangent = |re: Dual| Tangent::new(re, Dual::constant(0.0));
-    let unary: [(&str, fn(Tangent<Dual>) -> Tangent<Dual>, f64); 6] = [
+    type Case = (&'static str, fn(Tangent<Dual>) -> Tangent<Dual>, f64);
+    let unary: [Case; 6] = [
         ("sqrt", Scalar::sqrt, 0.0),
         ("cbrt", Scalar::cbrt, 0.0),
         ("ln", Scalar::ln, 0.0),
