@@ -13,6 +13,7 @@ use bgdsl_runtime::{Dual, DualN, Model, Scalar};
 #[path = "support/counting.rs"]
 mod counting;
 #[path = "support/loop_model.rs"]
+#[allow(dead_code)] // The failure modes this test does not use.
 mod loop_model;
 
 use counting::{allocations_in, Counting};
