@@ -56,8 +56,12 @@ fn solving_refining_and_failing_allocate_nothing() {
                 r[0] = z[0] + z[1];
                 r[1] = z[0] + z[1];
             });
-            let nan = solve([0.0], false, |z, r| r[0] = (z[0] - DualN::constant(1.0)).ln());
-            let none = solve([0.0], false, |z, r| r[0] = z[0] * z[0] + DualN::constant(1.0));
+            let nan = solve([0.0], false, |z, r| {
+                r[0] = (z[0] - DualN::constant(1.0)).ln()
+            });
+            let none = solve([0.0], false, |z, r| {
+                r[0] = z[0] * z[0] + DualN::constant(1.0)
+            });
             memory.record(black_box(singular.unwrap_err()));
             black_box((nan.unwrap_err(), none.unwrap_err(), memory.failure()));
             memory.clear_failure();
@@ -80,7 +84,10 @@ fn solving_refining_and_failing_allocate_nothing() {
             black_box((dx, dual, lanes, model.evaluation_error()));
         }
     });
-    assert_eq!(n, 0, "allocations in 1,000 evaluations of a model with a loop");
+    assert_eq!(
+        n, 0,
+        "allocations in 1,000 evaluations of a model with a loop"
+    );
     // The loop above ran past t_fail = 0.5: failures were met and reported.
     assert!(model.evaluation_error().is_some());
 }
