@@ -15,10 +15,15 @@
 //!    the implicit function theorem: for a dual `T` the tangents of `z_T` are exactly
 //!    `dz/dθ = −J⁻¹ ∂r/∂θ`, so the stiff solvers' Jacobians stay exact through the
 //!    solve; for `T = f64` it is one more (harmless) Newton step;
-//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`]), or, if the solve
-//!    failed, records the [`Failure`] ([`ImplicitMemory::record`]), fills the
-//!    derivatives with NaN, and lets the solver ask
-//!    [`Model::evaluation_error`](crate::Model::evaluation_error) why.
+//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`]) and forgets any
+//!    earlier failure ([`ImplicitMemory::clear_failure`]), or, if the solve failed,
+//!    fills in the time, records the [`Failure`] ([`ImplicitMemory::record`]) and
+//!    writes `T::from_f64(f64::NAN)` into the derivatives (or outputs);
+//!    [`Model::evaluation_error`](crate::Model::evaluation_error) then returns
+//!    [`Failure::to_model_error`] with the elements concerned. A NaN value with zero
+//!    tangents is enough on dual numbers too: the
+//!    [`JacobianEvaluator`](crate::JacobianEvaluator) makes the row of a non-finite
+//!    value NaN, so the solvers see the failure there as well.
 //!
 //! Everything here is allocation-free and works without the standard library: the
 //! Jacobian is factored by a fixed-size LU decomposition with partial pivoting over
