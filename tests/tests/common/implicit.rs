@@ -7,21 +7,7 @@ use bgdsl_runtime::{JacobianEvaluator, Model, ModelError, Scalar, SparsityPatter
 
 /// Names for the states of a [`WithWork`] model: enough for the textbook models.
 const WORK_NAMES: [&str; 16] = [
-    "x0",
-    "x1",
-    "x2",
-    "x3",
-    "x4",
-    "x5",
-    "x6",
-    "x7",
-    "x8",
-    "x9",
-    "x10",
-    "x11",
-    "x12",
-    "x13",
-    "x14",
+    "x0", "x1", "x2", "x3", "x4", "x5", "x6", "x7", "x8", "x9", "x10", "x11", "x12", "x13", "x14",
     "x15",
 ];
 
@@ -125,7 +111,10 @@ pub fn assert_energy_closes<M: Model>(
         let supplied = traj.state(row, states).unwrap();
         let dissipated = traj.state(row, states + 1).unwrap();
         let now = stored(row);
-        scale = scale.max(now.abs()).max(supplied.abs()).max(dissipated.abs());
+        scale = scale
+            .max(now.abs())
+            .max(supplied.abs())
+            .max(dissipated.abs());
         worst = worst.max((now - stored0 - supplied + dissipated).abs());
     }
     assert!(scale > 0.0, "{}: nothing happens", M::NAME);
