@@ -225,3 +225,58 @@ fn storage_driven_by_sources_returns_the_derivative_of_its_energy_variable() {
     let stored_now: f64 = balance.stored;
     assert!((stored_now - stored).abs() < 1e-12, "{stored_now}");
 }
+
+bond_graph! {
+    /// A wheel driving a slider through a rigid arm: the slider's speed is r cos θ ω, so
+    /// the inertia the motor sees depends on the configuration.
+    #[allow(derivative_causality)]
+    pub model RigidArm {
+        param j = 0.1; param m = 2.0; param r = 0.5; param tau = 1.0;
+        state theta: f64 = 0.3;
+        der theta = wheel.f;
+        Se motor = tau;
+        I wheel = j;
+        MTF arm = r * theta.cos();
+        I slider = m;
+        1 w; 1 s;
+        motor -> w -> wheel;
+        w -> arm -> s -> slider;
+    }
+}
+
+/// ṗ of the wheel from Lagrange: (j + m r² cos²θ) ω̇ = τ + m r² cos θ sin θ ω².
+fn rigid_arm_rate(p: &RigidArmParams, x: &[f64]) -> f64 {
+    let (omega, theta) = (x[0] / p.j, x[1]);
+    let (c, s) = (theta.cos(), theta.sin());
+    p.j * (p.tau + p.m * p.r * p.r * c * s * omega * omega) / (p.j + p.m * p.r * p.r * c * c)
+}
+
+#[test]
+fn a_configuration_dependent_inertia_follows_lagrange_with_an_exact_jacobian() {
+    let model = RigidArm::default();
+    let p = model.params.clone();
+    for x in [[0.05, 0.3], [-0.2, 1.2], [0.3, 2.9]] {
+        let dx = derivative(&model, 0.0, &x);
+        assert!(
+            (dx[0] - rigid_arm_rate(&p, &x)).abs() < 1e-12,
+            "{x:?}: {dx:?}"
+        );
+        assert!((dx[1] - x[0] / p.j).abs() < 1e-12, "{x:?}: {dx:?}");
+        for column in 0..2 {
+            let mut seeded = [Dual::constant(x[0]), Dual::constant(x[1])];
+            seeded[column] = Dual::variable(x[column]);
+            let mut dual = [Dual::constant(0.0); 2];
+            model.derivatives(0.0, &seeded, &mut dual);
+            let h = 1e-6;
+            let (mut up, mut down) = (x, x);
+            up[column] += h;
+            down[column] -= h;
+            let central = (rigid_arm_rate(&p, &up) - rigid_arm_rate(&p, &down)) / (2.0 * h);
+            assert!(
+                (dual[0].eps - central).abs() < 1e-6 * (1.0 + central.abs()),
+                "{x:?} column {column}: {} vs {central}",
+                dual[0].eps
+            );
+        }
+    }
+}
