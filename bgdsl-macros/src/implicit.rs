@@ -475,3 +475,85 @@ pub fn finish_dependent(
     }
     errors.finish()
 }
+
+#[cfg(test)]
+mod should {
+    use crate::equations::Equations;
+
+    fn derive(text: &str) -> syn::Result<Equations> {
+        let file: crate::syntax::File = syn::parse_str(text).unwrap();
+        let graph = crate::resolve::resolve(file.models.into_iter().next().unwrap()).unwrap();
+        let causality = crate::causality::assign(&graph)
+            .map_err(|errors| crate::causality::render(&graph, &errors[0]))?;
+        crate::equations::derive(&graph, &causality)
+    }
+
+    const GEAR: &str = "#[allow(derivative_causality)] model G { Se s = 1.0; I a = 0.2; I b = 0.05;
+        1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }";
+
+    #[test]
+    fn tear_the_independent_momentum_rate_of_a_gear_and_call_it_linear() {
+        let eqs = derive(GEAR).unwrap();
+        assert_eq!(eqs.states.len(), 1);
+        assert_eq!(eqs.dependent.len(), 1);
+        assert_eq!(eqs.dependent[0].states, [0]);
+        assert_eq!(eqs.implicit.size(), 1);
+        // The torn signal is what ṗ_a integrates: the effort on a's bond (bond 1).
+        assert_eq!(
+            eqs.implicit.tears[0].signal,
+            crate::signals::Signal::Effort(crate::ir::BondId(1))
+        );
+        assert!(eqs.implicit.linear);
+        assert!(!eqs.implicit.groups[0].is_loop());
+    }
+
+    #[test]
+    fn need_no_unknown_when_a_flow_source_drives_the_storage() {
+        let eqs = derive(
+            "#[allow(derivative_causality)] model M { Sf s = t; I m = 2.0; 1 v; s -> v -> m; }",
+        )
+        .unwrap();
+        assert_eq!((eqs.states.len(), eqs.dependent.len()), (0, 1));
+        assert_eq!(eqs.implicit.size(), 0);
+    }
+
+    #[test]
+    fn tear_a_resistor_output_and_classify_the_loop_by_its_laws() {
+        let linear = derive(
+            "#[allow(algebraic_loops)] model M { I m = 1.0; R a = 2.0; R b = 3.0; 1 v; 0 j;
+             v -> m; v -> j -> { a, b }; }",
+        )
+        .unwrap();
+        assert_eq!(linear.implicit.size(), 1);
+        assert!(linear.implicit.groups[0].is_loop());
+        assert!(linear.implicit.linear);
+        let quadratic = derive(
+            "#[allow(algebraic_loops)] model M { I m = 1.0; R a { e = 2.0 * f * f.abs() };
+             R b = 3.0; 1 v; 0 j; v -> m; v -> j -> { a, b }; }",
+        )
+        .unwrap();
+        assert_eq!(quadratic.implicit.size(), 1);
+        assert!(!quadratic.implicit.linear);
+    }
+
+    #[test]
+    fn refuse_an_allowance_nothing_uses() {
+        let message = derive(
+            "#[allow(algebraic_loops)] model M { Se s = 1.0; I m = 1.0; 1 v; s -> v -> m; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(
+            message.contains("is not needed") && message.contains("remove it"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn refuse_an_init_on_dependent_storage() {
+        let text = GEAR.replace("w1 -> g -> w2 -> b;", "w1 -> g -> w2 -> b; init b.p = 1.0;");
+        let message = derive(&text).err().unwrap().to_string();
+        assert!(message.contains("has no state"), "{message}");
+    }
+}

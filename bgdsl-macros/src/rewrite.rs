@@ -80,7 +80,17 @@ impl Env<'_> {
             return Leaf::Varying;
         }
         if word == "t" {
-            return Leaf::Timed;
+            // Dependent storage differentiates its energy variable along time too: an
+            // expression in `t` must carry that derivative, not be a per-call constant.
+            let differentiated = graph
+                .allowances
+                .iter()
+                .any(|a| a.lint == crate::ir::Lint::DerivativeCausality);
+            return if differentiated {
+                Leaf::Varying
+            } else {
+                Leaf::Timed
+            };
         }
         if let Some(param) = graph.params.iter().find(|p| p.name == *name) {
             return if param.input {
