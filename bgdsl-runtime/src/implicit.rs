@@ -15,8 +15,8 @@
 //!    the implicit function theorem: for a dual `T` the tangents of `z_T` are exactly
 //!    `dz/dθ = −J⁻¹ ∂r/∂θ`, so the stiff solvers' Jacobians stay exact through the
 //!    solve; for `T = f64` it is one more (harmless) Newton step;
-//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`]) and forgets any
-//!    earlier failure ([`ImplicitMemory::clear_failure`]), or, if the solve failed,
+//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`], which also
+//!    forgets any earlier failure), or, if the solve failed,
 //!    fills in the time, records the [`Failure`] ([`ImplicitMemory::record`]) and
 //!    writes `T::from_f64(f64::NAN)` into the derivatives (or outputs);
 //!    [`Model::evaluation_error`](crate::Model::evaluation_error) then returns
@@ -146,11 +146,14 @@ impl<const K: usize> ImplicitMemory<K> {
         })
     }
 
-    /// Remembers `z` as the guess of the next solve.
+    /// Remembers `z`, a solution, as the guess of the next solve, and forgets any
+    /// recorded failure: [`ImplicitMemory::failure`] describes the last solve, so a
+    /// failure a solver met on a step it then shortened is not reported later.
     pub fn remember(&self, z: &[f64; K]) {
         for (cell, value) in self.guess.iter().zip(z) {
             cell.set(*value);
         }
+        self.clear_failure();
     }
 
     /// Records a failure, replacing any earlier one.
@@ -167,7 +170,8 @@ impl<const K: usize> ImplicitMemory<K> {
         self.failure_kind.store(kind, Ordering::Relaxed);
     }
 
-    /// The last failure recorded, until [`ImplicitMemory::clear_failure`].
+    /// The last failure recorded, until [`ImplicitMemory::clear_failure`] or the next
+    /// [`ImplicitMemory::remember`] (a solve that succeeded).
     pub fn failure(&self) -> Option<Failure> {
         let kind = match self.failure_kind.load(Ordering::Relaxed) {
             1 => FailureKind::NotConverged,
