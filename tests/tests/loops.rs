@@ -410,3 +410,33 @@ mod unsolvable {
         );
     }
 }
+
+mod drawing {
+    use super::*;
+    use common::implicit::{assert_drawing_marks, assert_graphviz_parses};
+
+    /// `ALGEBRAIC_LOOPS` names each loop's members, the causal graph has the same
+    /// loops, and the DOT text outlines exactly those elements in orange (with a
+    /// legend); nothing is dependent storage. Graphviz reads every drawing.
+    #[test]
+    fn mark_the_loops() {
+        let drawings = [
+            assert_drawing_marks::<SeriesDampers>(&SeriesDampers::GRAPH),
+            assert_drawing_marks::<Arc>(&Arc::GRAPH),
+            assert_drawing_marks::<LoadedDivider>(&LoadedDivider::GRAPH),
+            assert_drawing_marks::<DiodeRc>(&DiodeRc::GRAPH),
+            assert_drawing_marks::<ImpossibleLoop>(&ImpossibleLoop::GRAPH),
+        ];
+        for dot in &drawings {
+            assert!(
+                dot.contains("algebraic loop (solved at each evaluation)"),
+                "{dot}"
+            );
+            assert!(
+                !dot.contains("fontcolor=\"red\""),
+                "no dependent storage: {dot}"
+            );
+            assert_graphviz_parses(dot);
+        }
+    }
+}

@@ -306,3 +306,30 @@ mod shaken_mass {
         assert_energy_closes(&model, tight(1e-16), 1.0, 201, 1e-8);
     }
 }
+
+mod drawing {
+    use super::*;
+    use common::implicit::{assert_drawing_marks, assert_graphviz_parses};
+
+    /// `DEPENDENT_STORAGE` names the storage without a state, the causal graph has it
+    /// in derivative causality and the DOT text draws it and its bonds red (with a
+    /// legend); nothing is on a loop. Graphviz reads every drawing.
+    #[test]
+    fn mark_the_dependent_storage() {
+        assert_eq!(GluedMasses::DEPENDENT_STORAGE.len(), 1);
+        assert!(["first", "second"].contains(&GluedMasses::DEPENDENT_STORAGE[0]));
+        assert_eq!(ParallelCapacitors::DEPENDENT_STORAGE.len(), 1);
+        assert!(["cap1", "cap2"].contains(&ParallelCapacitors::DEPENDENT_STORAGE[0]));
+        let drawings = [
+            assert_drawing_marks::<Gear>(&Gear::GRAPH),
+            assert_drawing_marks::<GluedMasses>(&GluedMasses::GRAPH),
+            assert_drawing_marks::<ParallelCapacitors>(&ParallelCapacitors::GRAPH),
+            assert_drawing_marks::<ShakenMass>(&ShakenMass::GRAPH),
+        ];
+        for dot in &drawings {
+            assert!(dot.contains("derivative causality (dependent storage)"));
+            assert!(!dot.contains("color=\"orange\""), "no loop drawn: {dot}");
+            assert_graphviz_parses(dot);
+        }
+    }
+}

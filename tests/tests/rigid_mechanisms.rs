@@ -499,3 +499,24 @@ mod four_bar {
         assert_jacobian_exact(&model, &samples, &[1.0; 4]);
     }
 }
+
+mod drawing {
+    use super::*;
+    use common::implicit::{assert_drawing_marks, assert_graphviz_parses};
+
+    /// The mechanisms' dependent inertias are drawn red, the crank is not.
+    #[test]
+    fn mark_the_dependent_inertias() {
+        for dot in [
+            assert_drawing_marks::<SliderCrank>(&SliderCrank::GRAPH),
+            assert_drawing_marks::<FourBar>(&FourBar::GRAPH),
+        ] {
+            let crank = dot
+                .lines()
+                .find(|l| l.contains("\"I : crank\""))
+                .expect("the crank's node");
+            assert!(!crank.contains("red"), "{crank}");
+            assert_graphviz_parses(&dot);
+        }
+    }
+}

@@ -217,3 +217,108 @@ pub fn assert_jacobian_exact<M: Model>(model: &M, samples: &[(f64, Vec<f64>)], s
         }
     }
 }
+
+/// The metadata and the drawing agree on what a model solves: each element is in
+/// derivative causality in `M::GRAPH` exactly when `M::DEPENDENT_STORAGE` names it, and
+/// is drawn in red then; it is outlined in orange exactly when it is a member of one of
+/// `M::GRAPH`'s loops, whose names are those of `M::ALGEBRAIC_LOOPS`; a bond is red
+/// exactly when it touches dependent storage. Returns the DOT text (for a parse check).
+pub fn assert_drawing_marks<M: Model>(graph: &bgdsl_runtime::CausalGraph) -> String {
+    use bgdsl_runtime::ElementCausality;
+    let dot = graph.to_dot();
+    let node_line = |index: usize| {
+        let start = format!("e{index} [");
+        dot.lines()
+            .map(str::trim)
+            .find(|l| l.starts_with(&start))
+            .unwrap_or_else(|| panic!("{}: no node e{index} in\n{dot}", M::NAME))
+    };
+    let dependent: Vec<bool> = graph
+        .elements
+        .iter()
+        .map(|e| e.causality == ElementCausality::Derivative)
+        .collect();
+    for (index, element) in graph.elements.iter().enumerate() {
+        let listed = M::DEPENDENT_STORAGE.contains(&element.name);
+        assert_eq!(
+            dependent[index],
+            listed,
+            "{}: {} in derivative causality vs listed in DEPENDENT_STORAGE",
+            M::NAME,
+            element.name
+        );
+        let line = node_line(index);
+        assert_eq!(
+            line.contains("fontcolor=\"red\""),
+            listed,
+            "{}: {line}",
+            M::NAME
+        );
+        let on_loop = graph.loops.iter().any(|members| members.contains(&index));
+        assert_eq!(
+            line.contains("color=\"orange\""),
+            on_loop,
+            "{}: {line}",
+            M::NAME
+        );
+    }
+    assert_eq!(
+        graph.loops.len(),
+        M::ALGEBRAIC_LOOPS.len(),
+        "{}: loops",
+        M::NAME
+    );
+    for (members, names) in graph.loops.iter().zip(M::ALGEBRAIC_LOOPS) {
+        let mut drawn: Vec<&str> = members.iter().map(|&i| graph.elements[i].name).collect();
+        let mut listed = names.to_vec();
+        drawn.sort_unstable();
+        listed.sort_unstable();
+        assert_eq!(drawn, listed, "{}: a loop's members", M::NAME);
+    }
+    for bond in graph.bonds {
+        let start = format!("e{} -> e{} [", bond.from, bond.to);
+        let line = dot
+            .lines()
+            .map(str::trim)
+            .find(|l| l.starts_with(&start))
+            .unwrap_or_else(|| panic!("{}: no bond {start}", M::NAME));
+        let touches = dependent[bond.from] || dependent[bond.to];
+        assert_eq!(line.contains("color=\"red"), touches, "{}: {line}", M::NAME);
+    }
+    let marked = !M::DEPENDENT_STORAGE.is_empty() || !M::ALGEBRAIC_LOOPS.is_empty();
+    assert_eq!(dot.contains("legend ["), marked, "{}: the legend", M::NAME);
+    dot
+}
+
+/// Runs Graphviz's `dot -Tsvg` on `source` when it is installed (says so on stderr
+/// when not): the drawing must parse without a warning.
+pub fn assert_graphviz_parses(source: &str) {
+    use std::io::Write as _;
+    use std::process::{Command, Stdio};
+    if Command::new("dot").arg("-V").output().is_err() {
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED the Graphviz parse: `dot` is not on PATH"
+        );
+        return;
+    }
+    let mut child = Command::new("dot")
+        .arg("-Tsvg")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn dot");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(source.as_bytes())
+        .unwrap();
+    let output = child.wait_with_output().expect("run dot");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success() && stderr.trim().is_empty(),
+        "dot: {stderr}\n{source}"
+    );
+}
