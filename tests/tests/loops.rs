@@ -19,8 +19,8 @@ use common::implicit::{
 };
 use common::{dopri5, initial_state, run, seeded_states, underdamped};
 use textbook::{
-    Arc, ArcParams, DiodeRc, DiodeRcParams, ImpossibleLoop, LoadedDivider, LoadedDividerParams,
-    SeriesDampers, SeriesDampersParams,
+    Arc, ArcParams, DiodeRc, DiodeRcParams, Divider, ImpossibleLoop, LoadedDivider,
+    LoadedDividerParams, SeriesDampers, SeriesDampersParams,
 };
 
 /// Whether `loops` has one loop, on which every name of `on` lies and none of `off`.
@@ -199,6 +199,58 @@ mod divider {
             1e-8,
         );
         assert_energy_closes(&model, dopri5(1e-12, 1e-19), 0.004, 101, 1e-8);
+    }
+}
+
+mod divider_alone {
+    use super::*;
+
+    /// With nothing but the source and the two resistors there is no state: the loop is
+    /// solved for the outputs alone, e0 r2/(r1 + r2) = 7.5 V and e0/(r1 + r2) = 2.5 mA.
+    #[test]
+    fn divide_without_any_state() {
+        assert_eq!(Divider::N_STATES, 0);
+        assert_one_loop(
+            "Divider",
+            Divider::ALGEBRAIC_LOOPS,
+            &["upper", "lower"],
+            &["source"],
+        );
+        let model = Divider::default();
+        let p = &model.params;
+        let mut y = [0.0; 2];
+        model.outputs::<f64>(0.0, &[], &mut y);
+        let (v, i) = (p.e0 * p.r2 / (p.r1 + p.r2), p.e0 / (p.r1 + p.r2));
+        assert!(
+            (y[0] - v).abs() <= 1e-14 * v && (y[1] - i).abs() <= 1e-14 * i,
+            "{y:?}"
+        );
+        let balance = model.power_balance::<f64>(0.0, &[]).unwrap();
+        assert!((balance.input - p.e0 * i).abs() <= 1e-14 * p.e0 * i);
+        assert!((balance.dissipated - balance.input).abs() <= 1e-14 * balance.input);
+    }
+
+    /// A linear loop whose Jacobian vanishes (r2 = −r1: 1 + r1/r2 = 0, exactly) is a
+    /// singular constraint named by the loop's members at the first evaluation.
+    #[test]
+    fn report_a_singular_loop() {
+        let model = SeriesDampers::new(SeriesDampersParams {
+            r2: -2.0,
+            ..Default::default()
+        });
+        let mut dx = [0.0; 2];
+        model.derivatives(0.0, &[0.1, 0.1], &mut dx);
+        assert!(dx.iter().all(|v| v.is_nan()), "{dx:?}");
+        match model.evaluation_error() {
+            Some(ModelError::SingularConstraint { members, t }) => {
+                assert!(
+                    members.contains("d1") && members.contains("d2"),
+                    "{members}"
+                );
+                assert_eq!(t, 0.0);
+            }
+            other => panic!("expected SingularConstraint, found {other:?}"),
+        }
     }
 }
 
@@ -423,6 +475,7 @@ mod drawing {
         let drawings = [
             assert_drawing_marks::<SeriesDampers>(&SeriesDampers::GRAPH),
             assert_drawing_marks::<Arc>(&Arc::GRAPH),
+            assert_drawing_marks::<Divider>(&Divider::GRAPH),
             assert_drawing_marks::<LoadedDivider>(&LoadedDivider::GRAPH),
             assert_drawing_marks::<DiodeRc>(&DiodeRc::GRAPH),
             assert_drawing_marks::<ImpossibleLoop>(&ImpossibleLoop::GRAPH),

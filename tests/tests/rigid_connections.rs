@@ -22,7 +22,7 @@ use common::implicit::{
 use common::{dopri5, initial_state, run, seeded_states, underdamped};
 use textbook::{
     Gear, GearParams, GluedMasses, GluedMassesParams, ParallelCapacitors, ParallelCapacitorsParams,
-    ShakenMass, ShakenMassParams,
+    ShakenMass, ShakenMassAlone, ShakenMassParams,
 };
 
 /// DP5 at rtol 1e-12 with an absolute tolerance `atol` below 1e-12 of the states' scale.
@@ -305,6 +305,27 @@ mod shaken_mass {
         // The mass's kinetic energy ½ m v(t)² is what the source has put in.
         assert_energy_closes(&model, tight(1e-16), 1.0, 201, 1e-8);
     }
+
+    /// Without the kinematic position the model has no state at all: its outputs
+    /// still give the force, evaluated alone and along a run.
+    #[test]
+    fn need_no_state_to_say_the_force() {
+        assert_eq!(ShakenMassAlone::N_STATES, 0);
+        let model = ShakenMassAlone::default();
+        let (m, a, w) = (model.params.m, model.params.a, model.params.omega);
+        let mut y = [0.0];
+        model.outputs::<f64>(0.3, &[], &mut y);
+        assert!((y[0] - m * a * w * (w * 0.3).cos()).abs() <= 1e-15, "{y:?}");
+        let (traj, _) = run(&model, tight(1e-16), &[], 1.0, 11);
+        let t = traj.times();
+        assert_matches(
+            "shaken, no state: force",
+            t,
+            traj.column("force").unwrap(),
+            |t| m * a * w * (w * t).cos(),
+            1e-12,
+        );
+    }
 }
 
 mod drawing {
@@ -325,6 +346,7 @@ mod drawing {
             assert_drawing_marks::<GluedMasses>(&GluedMasses::GRAPH),
             assert_drawing_marks::<ParallelCapacitors>(&ParallelCapacitors::GRAPH),
             assert_drawing_marks::<ShakenMass>(&ShakenMass::GRAPH),
+            assert_drawing_marks::<ShakenMassAlone>(&ShakenMassAlone::GRAPH),
         ];
         for dot in &drawings {
             assert!(dot.contains("derivative causality (dependent storage)"));

@@ -135,6 +135,28 @@ bond_graph! {
 }
 
 bond_graph! {
+    /// The mass shaken by a velocity source without the kinematic position: a model
+    /// with no state at all, whose outputs still say what the source must deliver.
+    #[allow(derivative_causality)]
+    pub model ShakenMassAlone {
+        /// mass, kg
+        param m = 2.0;
+        /// velocity amplitude, m/s
+        param a = 0.1;
+        /// angular frequency, rad/s
+        param omega = 10.0;
+
+        Sf shaker = a * (omega * t).sin();
+        I mass = m;
+        1 v;
+
+        shaker -> v -> mass;
+
+        output force = shaker.e;
+    }
+}
+
+bond_graph! {
     /// A mass on a spring, held by two dampers in series (one force, velocities
     /// adding: a 0-junction): an algebraic loop, equivalent to one damper
     /// r1 r2 / (r1 + r2).
@@ -196,6 +218,30 @@ bond_graph! {
 
         output e2 = node.e;
         output i = current.f;
+    }
+}
+
+bond_graph! {
+    /// A purely resistive divider, r1 over r2 across a source: an algebraic loop and
+    /// no state at all; its output is e0 r2/(r1 + r2).
+    #[allow(algebraic_loops)]
+    pub model Divider {
+        /// source voltage, V
+        param e0 = 10.0;
+        /// upper resistance, Ω
+        param r1 = 1000.0;
+        /// lower resistance, Ω
+        param r2 = 3000.0;
+
+        Se source = e0;
+        R upper = r1;
+        R lower = r2;
+        1 top;
+
+        source -> top -> { upper, lower };
+
+        output v_out = lower.e;
+        output i = top.f;
     }
 }
 
