@@ -551,6 +551,25 @@ mod should {
     }
 
     #[test]
+    fn call_a_conflict_between_rigid_connections_a_redundant_constraint() {
+        let message = derive(
+            "#[allow(derivative_causality)] model M { Se s = 1.0; I a = 0.2; I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; TF h = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b;
+             w1 -> h -> w2; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(
+            message.starts_with("redundant constraint at 1-junction `w2`"),
+            "{message}"
+        );
+        for name in ["TF `g`", "TF `h`", "I `a`"] {
+            assert!(message.contains(name), "{message}");
+        }
+    }
+
+    #[test]
     fn refuse_an_init_on_dependent_storage() {
         let text = GEAR.replace("w1 -> g -> w2 -> b;", "w1 -> g -> w2 -> b; init b.p = 1.0;");
         let message = derive(&text).err().unwrap().to_string();
