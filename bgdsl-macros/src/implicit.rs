@@ -570,6 +570,19 @@ mod should {
     }
 
     #[test]
+    fn say_that_dependent_storage_has_no_state_to_read() {
+        let text = GEAR.replace(
+            "w1 -> g -> w2 -> b;",
+            "w1 -> g -> w2 -> b; output pb = b.p;",
+        );
+        let message = derive(&text).err().unwrap().to_string();
+        assert!(
+            message.contains("has no state `p`") && message.contains("`b.f`"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn refuse_an_init_on_dependent_storage() {
         let text = GEAR.replace("w1 -> g -> w2 -> b;", "w1 -> g -> w2 -> b; init b.p = 1.0;");
         let message = derive(&text).err().unwrap().to_string();
