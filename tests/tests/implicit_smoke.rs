@@ -340,3 +340,26 @@ fn a_vector_dependent_storage_adds_its_projected_inertia() {
         );
     }
 }
+
+#[test]
+fn a_stiff_solver_runs_the_rigid_arm_to_the_same_state() {
+    let model = RigidArm::default();
+    let run = |solver| {
+        let trajectory = bgdsl_runtime::simulate(&model, solver, 0.0, 0.5, 2).unwrap();
+        [
+            trajectory.state(1, 0).unwrap(),
+            trajectory.state(1, 1).unwrap(),
+        ]
+    };
+    let explicit = run(bgdsl_runtime::Solver::DormandPrince(
+        bgdsl_runtime::DormandPrinceOptions {
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Default::default()
+        },
+    ));
+    let stiff = run(bgdsl_runtime::Solver::Rodas4(Default::default()));
+    for (a, b) in explicit.iter().zip(stiff) {
+        assert!((a - b).abs() < 1e-4, "{explicit:?} vs {stiff:?}");
+    }
+}
