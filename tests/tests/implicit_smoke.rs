@@ -363,3 +363,32 @@ fn a_stiff_solver_runs_the_rigid_arm_to_the_same_state() {
         assert!((a - b).abs() < 1e-4, "{explicit:?} vs {stiff:?}");
     }
 }
+
+bond_graph! {
+    /// The gear with its inverse modulus given: `Model::check` solves first too.
+    #[allow(derivative_causality)]
+    pub model CheckedGear {
+        param n = 3.0; param wrong = 0.0;
+        Se motor = 1.0;
+        I shaft1 = 0.2;
+        I shaft2 = 0.05;
+        1 w1; 1 w2;
+        TF gear = n, inverse = 1.0 / n + wrong;
+        motor -> w1 -> shaft1;
+        w1 -> gear -> w2 -> shaft2;
+    }
+}
+
+#[test]
+fn the_inverse_check_of_an_implicit_model_runs_after_the_solve() {
+    let mut model = CheckedGear::default();
+    assert!(model.check(0.0, &[0.1]).is_ok());
+    model.params.wrong = 0.5;
+    assert!(matches!(
+        model.check(0.0, &[0.1]),
+        Err(bgdsl_runtime::ModelError::WrongInverse {
+            element: "gear",
+            ..
+        })
+    ));
+}
