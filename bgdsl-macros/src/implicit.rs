@@ -508,6 +508,31 @@ mod should {
     }
 
     #[test]
+    fn take_the_allowance_from_a_bond_statement_or_an_element() {
+        let on_bond = derive(
+            "model G { Se s = 1.0; I a = 0.2; I b = 0.05; 1 w1; 1 w2; TF g = 3.0;
+             s -> w1 -> a; #[allow(derivative_causality)] w1 -> g -> w2 -> b; }",
+        )
+        .unwrap();
+        assert_eq!(on_bond.dependent.len(), 1);
+        let on_element = derive(
+            "model G { Se s = 1.0; I a = 0.2; #[allow(derivative_causality)] I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }",
+        )
+        .unwrap();
+        assert_eq!(on_element.dependent.len(), 1);
+        // On the other inertia, which keeps its state, it covers nothing.
+        let elsewhere = derive(
+            "model G { Se s = 1.0; #[allow(derivative_causality)] I a = 0.2; I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(elsewhere.contains("derivative causality"), "{elsewhere}");
+    }
+
+    #[test]
     fn need_no_unknown_when_a_flow_source_drives_the_storage() {
         let eqs = derive(
             "#[allow(derivative_causality)] model M { Sf s = t; I m = 2.0; 1 v; s -> v -> m; }",

@@ -50,6 +50,21 @@ fn derivative(model: &impl Model, t: f64, x: &[f64]) -> Vec<f64> {
 fn the_gear_has_one_state_and_the_reflected_inertia() {
     assert_eq!(Gear::STATE_NAMES, ["shaft1.p"]);
     assert_eq!(Gear::DEPENDENT_STORAGE, ["shaft2"]);
+    let causality = |name: &str| {
+        Gear::GRAPH
+            .elements
+            .iter()
+            .find(|e| e.name == name)
+            .map(|e| e.causality)
+    };
+    assert_eq!(
+        causality("shaft2"),
+        Some(bgdsl_runtime::ElementCausality::Derivative)
+    );
+    assert_eq!(
+        causality("shaft1"),
+        Some(bgdsl_runtime::ElementCausality::Integral)
+    );
     let gear = Gear::default();
     let p = gear.params.clone();
     let t_end = 0.5;
@@ -113,7 +128,12 @@ fn the_gear_jacobian_through_the_solve_is_exact() {
 fn two_dampers_in_series_act_as_one() {
     let model = SeriesDampers::default();
     let p = model.params.clone();
-    assert_eq!(SeriesDampers::ALGEBRAIC_LOOPS.len(), 1);
+    assert_eq!(SeriesDampers::ALGEBRAIC_LOOPS, [["d1", "d2", "j"]]);
+    let looped: Vec<&str> = SeriesDampers::GRAPH.loops[0]
+        .iter()
+        .map(|&i| SeriesDampers::GRAPH.elements[i].name)
+        .collect();
+    assert_eq!(looped, ["d1", "d2", "j"]);
     let r = p.r1 * p.r2 / (p.r1 + p.r2);
     let t_end = 0.4;
     let trajectory =
@@ -255,6 +275,9 @@ fn rigid_arm_rate(p: &RigidArmParams, x: &[f64]) -> f64 {
 fn a_configuration_dependent_inertia_follows_lagrange_with_an_exact_jacobian() {
     let model = RigidArm::default();
     let p = model.params.clone();
+    // ṗ reads both states through the solve; θ̇ only the momentum.
+    let sparsity: &[&[usize]] = &[&[0, 1], &[0]];
+    assert_eq!(RigidArm::JACOBIAN_SPARSITY, Some(sparsity));
     for x in [[0.05, 0.3], [-0.2, 1.2], [0.3, 2.9]] {
         let dx = derivative(&model, 0.0, &x);
         assert!(
@@ -279,4 +302,93 @@ fn a_configuration_dependent_inertia_follows_lagrange_with_an_exact_jacobian() {
             );
         }
     }
+}
+
+bond_graph! {
+    /// A slider pushed along its track drags a 3-D body rigidly along direction n: the
+    /// body's 3-D momentum is dependent storage (a vector energy variable).
+    #[allow(derivative_causality)]
+    pub model DraggedBody {
+        param ms = 0.5; param mb = 2.0; param f0 = 4.0;
+        param n: Vector3 = [0.0, 0.6, 0.8];
+        Se push = f0;
+        I slider = ms;
+        MTF along = n;
+        I[3] body = mb;
+        1 s; 1 w;
+        push -> s -> { slider, along };
+        along -> w -> body;
+        output body_force = body.e;
+    }
+}
+
+#[test]
+fn a_vector_dependent_storage_adds_its_projected_inertia() {
+    let model = DraggedBody::default();
+    let p = model.params.clone();
+    let n2: f64 = p.n.iter().map(|c| c * c).sum();
+    let dx = derivative(&model, 0.0, &[0.3]);
+    // (ms + mb |n|²) u̇ = f0, and ṗ_slider = ms u̇.
+    let accel = p.f0 / (p.ms + p.mb * n2);
+    assert!((dx[0] - p.ms * accel).abs() < 1e-12, "{dx:?}");
+    let mut y = [0.0; 3];
+    model.outputs(0.0, &[0.3], &mut y);
+    for (component, direction) in y.iter().zip(p.n) {
+        assert!(
+            (component - p.mb * direction * accel).abs() < 1e-12,
+            "{y:?}"
+        );
+    }
+}
+
+#[test]
+fn a_stiff_solver_runs_the_rigid_arm_to_the_same_state() {
+    let model = RigidArm::default();
+    let run = |solver| {
+        let trajectory = bgdsl_runtime::simulate(&model, solver, 0.0, 0.5, 2).unwrap();
+        [
+            trajectory.state(1, 0).unwrap(),
+            trajectory.state(1, 1).unwrap(),
+        ]
+    };
+    let explicit = run(bgdsl_runtime::Solver::DormandPrince(
+        bgdsl_runtime::DormandPrinceOptions {
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Default::default()
+        },
+    ));
+    let stiff = run(bgdsl_runtime::Solver::Rodas4(Default::default()));
+    for (a, b) in explicit.iter().zip(stiff) {
+        assert!((a - b).abs() < 1e-4, "{explicit:?} vs {stiff:?}");
+    }
+}
+
+bond_graph! {
+    /// The gear with its inverse modulus given: `Model::check` solves first too.
+    #[allow(derivative_causality)]
+    pub model CheckedGear {
+        param n = 3.0; param wrong = 0.0;
+        Se motor = 1.0;
+        I shaft1 = 0.2;
+        I shaft2 = 0.05;
+        1 w1; 1 w2;
+        TF gear = n, inverse = 1.0 / n + wrong;
+        motor -> w1 -> shaft1;
+        w1 -> gear -> w2 -> shaft2;
+    }
+}
+
+#[test]
+fn the_inverse_check_of_an_implicit_model_runs_after_the_solve() {
+    let mut model = CheckedGear::default();
+    assert!(model.check(0.0, &[0.1]).is_ok());
+    model.params.wrong = 0.5;
+    assert!(matches!(
+        model.check(0.0, &[0.1]),
+        Err(bgdsl_runtime::ModelError::WrongInverse {
+            element: "gear",
+            ..
+        })
+    ));
 }
