@@ -8,6 +8,7 @@
 //!
 //! Users depend on `bgdsl-runtime`, which re-exports [`bond_graph!`].
 
+mod allow;
 mod causality;
 mod codegen;
 mod compliance;
