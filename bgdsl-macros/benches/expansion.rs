@@ -33,6 +33,8 @@ mod expand;
 mod flatten;
 #[path = "../src/hoist.rs"]
 mod hoist;
+#[path = "../src/implicit.rs"]
+mod implicit;
 #[path = "../src/ir.rs"]
 mod ir;
 #[path = "../src/keywords.rs"]
@@ -49,6 +51,8 @@ mod shapes;
 mod signals;
 #[path = "../src/split.rs"]
 mod split;
+#[path = "../src/staged.rs"]
+mod staged;
 #[path = "../src/stdlib.rs"]
 mod stdlib;
 #[path = "../src/syntax.rs"]
