@@ -20,7 +20,8 @@ pub trait Model {
 
     /// The model's name as declared.
     const NAME: &'static str;
-    /// State names in the order of the state vector, e.g. `"spring.q"`.
+    /// State names in the order of the state vector, e.g. `"spring.q"`. Storage in
+    /// derivative causality ([`Model::DEPENDENT_STORAGE`]) has no state.
     const STATE_NAMES: &'static [&'static str];
     /// Output names in the order of the output vector.
     const OUTPUT_NAMES: &'static [&'static str];
