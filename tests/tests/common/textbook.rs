@@ -80,7 +80,11 @@ bond_graph! {
 
 bond_graph! {
     /// Two capacitors in parallel on one 0-junction, charged from a source through a
-    /// resistor: the time constant is R (C1 + C2).
+    /// resistor: the time constant is R (C1 + C2) with C2 = 1/k2.
+    ///
+    /// The second (dependent) capacitor's law is the plain parameter `k2`, its
+    /// stiffness: a parameter expression there (`1.0 / c2`) does not compile yet
+    /// (`tests/pending/dependent_storage_law_expression.rs`, issue 12).
     #[allow(derivative_causality)]
     pub model ParallelCapacitors {
         /// source voltage, V
@@ -89,13 +93,13 @@ bond_graph! {
         param r = 1000.0;
         /// first capacitance, F
         param c1 = 1.0e-6;
-        /// second capacitance, F
-        param c2 = 3.0e-6;
+        /// second capacitor's stiffness 1/C2, 1/F (C2 = 3 µF)
+        param k2 = 1.0 / 3.0e-6;
 
         Se source = e0;
         R resistor = r;
         C cap1 = 1.0 / c1;
-        C cap2 = 1.0 / c2;
+        C cap2 = k2;
         1 current;
         0 node;
 
