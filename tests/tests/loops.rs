@@ -20,7 +20,7 @@ use common::implicit::{
 use common::{dopri5, initial_state, run, seeded_states, underdamped};
 use textbook::{
     Arc, ArcParams, DiodeRc, DiodeRcParams, Divider, ImpossibleLoop, LoadedDivider,
-    LoadedDividerParams, SeriesDampers, SeriesDampersParams,
+    LoadedDividerParams, SeriesDampers, SeriesDampersParams, UnluckyLoop,
 };
 
 /// Whether `loops` has one loop, on which every name of `on` lies and none of `off`.
@@ -471,6 +471,34 @@ mod unsolvable {
                     "a NaN was recorded"
                 );
             }
+        }
+    }
+
+    /// A non-linear loop without a solution whose Newton iterate lands where its
+    /// derivative vanishes is still a loop that did not converge (with its residual),
+    /// not a "redundant constraint or dead-point configuration".
+    #[test]
+    #[ignore = "needs a singular Jacobian met during Newton iterations on a non-linear \
+                loop reported as UnsolvedLoop, not SingularConstraint: issue 12"]
+    fn report_an_unconverged_loop_even_where_newton_meets_a_zero_derivative() {
+        let model = UnluckyLoop::default();
+        let mut dx = [0.0];
+        model.derivatives(0.0, &[0.0], &mut dx);
+        assert!(dx[0].is_nan());
+        match model.evaluation_error() {
+            Some(ModelError::UnsolvedLoop {
+                members,
+                t,
+                residual,
+            }) => {
+                assert!(
+                    members.contains("d1") && members.contains("d2"),
+                    "{members}"
+                );
+                assert_eq!(t, 0.0);
+                assert!(residual.abs() > 1e-3, "{residual}");
+            }
+            other => panic!("expected UnsolvedLoop, found {other:?}"),
         }
     }
 

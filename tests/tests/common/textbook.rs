@@ -342,6 +342,28 @@ bond_graph! {
 }
 
 bond_graph! {
+    /// The unsolvable loop of [`ImpossibleLoop`] with b = 0: f = e² + 1. Newton's
+    /// iterates from zero meet the point where the loop's derivative vanishes exactly
+    /// (e = −1/2), which is no redundant constraint: the loop has no solution.
+    #[allow(algebraic_loops)]
+    pub model UnluckyLoop {
+        /// mass, kg
+        param m = 1.0;
+        /// first damper, N·s/m
+        param r1 = 1.0;
+
+        I mass = m;
+        R d1 = r1;
+        R d2 { f = e * e + 1.0 };
+        1 v;
+        0 series;
+
+        v -> { mass, series };
+        series -> { d1, d2 };
+    }
+}
+
+bond_graph! {
     /// A rigid slider-crank in the vertical plane: crank (inertia jc about its pivot,
     /// length r, angle θ from the slide's axis), connecting rod (mass mr, inertia jr
     /// about its centre, length l, centre at its middle, its weight acting), slider
