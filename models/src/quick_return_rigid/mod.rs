@@ -1,0 +1,15 @@
+//! The quick return mechanism with rigid joints.
+//!
+//! - [`reference`]: the rigid-body reference, closed-form kinematics and inverse
+//!   dynamics (Newton–Euler for every link), independent of any bond graph. Its items
+//!   are re-exported here, where the tests and benches have always found them.
+//! - [`model`]: the mechanism as a bond graph with rigid joints
+//!   ([`QuickReturnRigid`], driven by a flow source; [`QuickReturnRigidCoupled`],
+//!   driven through the paper's compliant drive coupling).
+//! - [`pose`]: the closed-form pose the bond graph's moduli read.
+
+pub mod pose;
+pub mod reference;
+
+pub(crate) use reference::rigid_params_of;
+pub use reference::*;
