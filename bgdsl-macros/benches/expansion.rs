@@ -9,6 +9,8 @@
 
 #![allow(dead_code, unused_imports)]
 
+#[path = "../src/allow.rs"]
+mod allow;
 #[path = "../src/causality/mod.rs"]
 mod causality;
 #[path = "../src/codegen.rs"]

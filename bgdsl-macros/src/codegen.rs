@@ -111,10 +111,25 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         &output_fields,
         &output_docs,
     );
-    let graph_const = graph_description(graph, causality);
+    let graph_const = graph_description(graph, causality, equations);
     let body = evaluation_body(graph, equations, &derived);
-    let (check_inverses, debug_inverses) = inverse_checks(graph, equations, &body);
+    let check_body = {
+        let solve =
+            crate::staged::solve_first(equations, quote!(return ::core::result::Result::Ok(());));
+        quote!(#solve #body)
+    };
+    let (check_inverses, debug_inverses) = inverse_checks(graph, equations, &check_body);
     let power = crate::power::account(graph, equations);
+    let solve_dx = crate::staged::solve_first(equations, crate::staged::fill_nan("__dx"));
+    let solve_y = crate::staged::solve_first(equations, crate::staged::fill_nan("__y"));
+    let solve_power =
+        crate::staged::solve_first(equations, quote!(return ::core::option::Option::None;));
+    let staged_methods = crate::staged::methods(graph, equations, &derived);
+    let crate::staged::ModelParts {
+        field: implicit_field,
+        value: implicit_value,
+        items: implicit_items,
+    } = crate::staged::model_parts(graph, equations);
     let scalar = quote!(Scalar);
     let state_offsets = equations.offsets();
     let dx = Ident::new("__dx", Span::call_site());
@@ -154,7 +169,11 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         let text = format!("The bond-graph model `{name}`.");
         quote!(#[doc = #text])
     };
-    let attrs = &graph.attrs;
+    let attrs: Vec<&syn::Attribute> = graph
+        .attrs
+        .iter()
+        .filter(|a| !crate::lints::is_allowance(a))
+        .collect();
     let name_str = name.to_string();
     let HostInterface {
         inputs_struct,
@@ -164,6 +183,21 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         with_inputs,
     } = host;
     // The derived-value cache, when the model has parameter expressions to keep.
+    // The memory of an implicit model's solve is no part of its value.
+    let (partial_eq_derive, partial_eq_impl) = if implicit_field.is_empty() {
+        (quote!(::core::cmp::PartialEq), quote!())
+    } else {
+        (
+            quote!(),
+            quote! {
+                impl ::core::cmp::PartialEq for #name {
+                    fn eq(&self, other: &Self) -> ::core::primitive::bool {
+                        self.params == other.params && self.inputs == other.inputs
+                    }
+                }
+            },
+        )
+    };
     let (derived_field, derived_value, derive_fn, default_derive, default_impl) =
         if derived.has_cache() {
             let cache_type = crate::derived::Derived::cache_type(name);
@@ -203,16 +237,18 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
 
         #(#attrs)*
         #model_doc
-        #[derive(::core::clone::Clone, ::core::fmt::Debug, #default_derive ::core::cmp::PartialEq)]
+        #[derive(::core::clone::Clone, ::core::fmt::Debug, #default_derive #partial_eq_derive)]
         #vis struct #name {
             /// The parameters the model evaluates with.
             pub params: #params_ident,
             /// The inputs, set by the host between steps.
             pub inputs: #inputs_ident,
             #derived_field
+            #implicit_field
         }
 
         #default_impl
+        #partial_eq_impl
 
         impl #name {
             /// The number of states.
@@ -227,10 +263,12 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                     #derived_value
                     params,
                     inputs: ::core::default::Default::default(),
+                    #implicit_value
                 }
             }
 
             #derive_fn
+            #staged_methods
         }
 
         #record_struct_state
@@ -246,6 +284,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const OUTPUTS: &'static [::bgdsl_runtime::SignalInfo] = #output_infos;
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
             #model_items
+            #implicit_items
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
                 ::core::option::Option::Some(&[#(#sparsity),*]);
 
@@ -267,6 +306,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __dx: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
+                #solve_dx
                 #body
                 #debug_inverses
                 #(#derivatives)*
@@ -276,6 +316,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __y: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
+                #solve_y
                 #body
                 #(#outputs)*
             }
@@ -287,6 +328,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 __x: &[Scalar],
             ) -> ::core::option::Option<::bgdsl_runtime::PowerBalance<Scalar>> {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
+                #solve_power
                 #body
                 #power
             }
@@ -779,7 +821,7 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
 
 /// Binds each parameter by name, converted to `scalar` (`f64` or the model's scalar
 /// type): a number, an nalgebra vector or a matrix.
-fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
+pub fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
     let binds = graph.params.iter().map(|p| {
         let name = &p.name;
         let ty = value_type(p.shape, scalar);
@@ -824,7 +866,7 @@ fn param_field_type(shape: Shape) -> TokenStream {
 }
 
 /// A zero of `shape`.
-fn zero(shape: Shape, scalar: &TokenStream) -> TokenStream {
+pub fn zero(shape: Shape, scalar: &TokenStream) -> TokenStream {
     match shape {
         Shape::Scalar => quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(0.0)),
         _ => {
@@ -835,7 +877,7 @@ fn zero(shape: Shape, scalar: &TokenStream) -> TokenStream {
 }
 
 /// Writes `value` (of `shape`) into `target[offset..]`, matrices column by column.
-fn write_value(
+pub fn write_value(
     shape: Shape,
     value: TokenStream,
     target: &Ident,
@@ -907,14 +949,35 @@ fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
         .collect()
 }
 
-/// Binds time, parameters and states, then computes every bond variable in order.
-fn evaluation_body(
+/// Binds time, parameters and states, then computes every bond variable in order (the
+/// torn unknowns of an implicit model read from `__z` first).
+pub fn evaluation_body(
+    graph: &Graph,
+    equations: &Equations,
+    derived: &crate::derived::Derived,
+) -> TokenStream {
+    let time = Ident::new("t", Span::call_site());
+    let prelude = prelude(graph, equations, derived);
+    let unknowns = crate::staged::unknowns(equations);
+    let assignments = equations
+        .ordered
+        .iter()
+        .map(|eq| assignment(graph, equations, eq));
+    quote! {
+        let #time: Scalar = <Scalar as ::bgdsl_runtime::Scalar>::from_f64(__t);
+        #prelude
+        #unknowns
+        #(#assignments)*
+    }
+}
+
+/// Binds parameters, hoisted parameter expressions and states (in `Scalar`).
+pub fn prelude(
     graph: &Graph,
     equations: &Equations,
     derived: &crate::derived::Derived,
 ) -> TokenStream {
     let scalar = quote!(Scalar);
-    let time = Ident::new("t", Span::call_site());
     let params = bind_params(graph, &scalar);
     let hoisted = derived.bindings(graph);
     let states = equations.states.iter().zip(equations.offsets()).enumerate().map(|(i, (state, offset))| {
@@ -928,62 +991,89 @@ fn evaluation_body(
             }
         }
     });
-    let assignments = equations.ordered.iter().map(|eq| {
-        let span = graph.element(eq.element).name.span();
-        let target = eq.defines.ident(span);
-        let shape = equations.shape_of(graph, eq.defines);
-        let ty = value_type(shape, &scalar);
-        let value = match &eq.rhs {
-            Rhs::Law { negate, bindings, expr } => {
-                let binds = bindings.iter().map(|(var, term)| {
-                    let var = Ident::new(var, Span::call_site());
-                    let bound_type = value_type(equations.shape_of(graph, term.signal), &scalar);
-                    let term = term_tokens(*term, span);
-                    quote!(let #var: #bound_type = #term;)
-                });
-                let sign = negate.then(|| quote!(-));
-                quote_spanned!(span=> #sign { #(#binds)* #expr })
-            }
-            Rhs::Sum(terms) if terms.is_empty() => zero(shape, &scalar),
-            Rhs::Sum(terms) => sum(terms, span),
-            Rhs::Component { of, index } => {
-                let of = of.ident(span);
-                quote_spanned!(span=> #of[#index])
-            }
-            Rhs::Assemble(parts) => {
-                let n = parts.len();
-                let parts = parts.iter().map(|part| part.ident(span));
-                quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
-            }
-            Rhs::Scaled { term: scaled, modulus, op } => {
-                let term = term_tokens(*scaled, span);
-                let input = equations.shape_of(graph, scaled.signal);
-                match (shape, op) {
-                    _ if input != shape => non_square(shape, input, *op, modulus, term),
-                    (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => quote_spanned!(span=> #term * (#modulus)),
-                    (Shape::Scalar, Op::Solve | Op::SolveTranspose) => quote_spanned!(span=> #term / (#modulus)),
-                    (shape, op) => {
-                        let n = shape.len();
-                        let method = match op {
-                            Op::Apply => quote!(apply),
-                            Op::ApplyTranspose => quote!(apply_transpose),
-                            Op::Solve => quote!(solve),
-                            Op::SolveTranspose => quote!(solve_transpose),
-                        };
-                        quote_spanned!(span=> ::bgdsl_runtime::multibond::Linear::<Scalar, #n>::#method(&(#modulus), #term))
-                    }
-                }
-            }
-        };
-        quote!(let #target: #ty = #value;)
-    });
     quote! {
-        let #time: Scalar = <Scalar as ::bgdsl_runtime::Scalar>::from_f64(__t);
         #params
         #hoisted
         #(#states)*
-        #(#assignments)*
     }
+}
+
+/// `let <signal>: <type> = <value>;` for one equation.
+pub fn assignment(
+    graph: &Graph,
+    equations: &Equations,
+    eq: &crate::equations::Equation,
+) -> TokenStream {
+    let scalar = quote!(Scalar);
+    let span = graph.element(eq.element).name.span();
+    let target = eq.defines.ident(span);
+    let shape = equations.shape_of(graph, eq.defines);
+    let ty = value_type(shape, &scalar);
+    let value = match &eq.rhs {
+        Rhs::Law {
+            negate,
+            bindings,
+            expr,
+        } => {
+            let binds = bindings.iter().map(|(var, term)| {
+                let var = Ident::new(var, Span::call_site());
+                let bound_type = value_type(equations.shape_of(graph, term.signal), &scalar);
+                let term = term_tokens(*term, span);
+                quote!(let #var: #bound_type = #term;)
+            });
+            let sign = negate.then(|| quote!(-));
+            quote_spanned!(span=> #sign { #(#binds)* #expr })
+        }
+        Rhs::Sum(terms) if terms.is_empty() => zero(shape, &scalar),
+        Rhs::Sum(terms) => sum(terms, span),
+        Rhs::Component { of, index } => {
+            let of = of.ident(span);
+            quote_spanned!(span=> #of[#index])
+        }
+        Rhs::Assemble(parts) => {
+            let n = parts.len();
+            let parts = parts.iter().map(|part| part.ident(span));
+            quote_spanned!(span=> ::bgdsl_runtime::multibond::SVector::<Scalar, #n>::from([#(#parts),*]))
+        }
+        Rhs::Scaled {
+            term: scaled,
+            modulus,
+            op,
+        } => {
+            let term = term_tokens(*scaled, span);
+            let input = equations.shape_of(graph, scaled.signal);
+            match (shape, op) {
+                _ if input != shape => non_square(shape, input, *op, modulus, term),
+                (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => {
+                    quote_spanned!(span=> #term * (#modulus))
+                }
+                (Shape::Scalar, Op::Solve | Op::SolveTranspose) => {
+                    quote_spanned!(span=> #term / (#modulus))
+                }
+                (shape, op) => linear_op(shape, *op, modulus, term, span),
+            }
+        }
+        Rhs::Dependent(index) => crate::staged::dependent_rate(equations, *index, span),
+    };
+    quote!(let #target: #ty = #value;)
+}
+
+/// A matrix (or vector) coefficient applied to a value: `k v`, `kᵀ v`, `k⁻¹ v`, `k⁻ᵀ v`.
+pub fn linear_op(
+    shape: Shape,
+    op: Op,
+    modulus: &Expr,
+    term: TokenStream,
+    span: Span,
+) -> TokenStream {
+    let n = shape.len();
+    let method = match op {
+        Op::Apply => quote!(apply),
+        Op::ApplyTranspose => quote!(apply_transpose),
+        Op::Solve => quote!(solve),
+        Op::SolveTranspose => quote!(solve_transpose),
+    };
+    quote_spanned!(span=> ::bgdsl_runtime::multibond::Linear::<Scalar, #n>::#method(&(#modulus), #term))
 }
 
 /// The checks of the inverses two-ports' laws give: `Model::check` (every residual
@@ -1090,7 +1180,7 @@ fn sum(terms: &[Term], span: Span) -> TokenStream {
     tokens
 }
 
-fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
+fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations) -> TokenStream {
     let rt = quote!(::bgdsl_runtime);
     let model = graph.name.to_string();
     let elements = graph.element_ids().map(|id| {
@@ -1118,6 +1208,7 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
             ElementCausality::Resistance => quote!(Resistance),
             ElementCausality::Conductance => quote!(Conductance),
             ElementCausality::Fixed => quote!(Fixed),
+            ElementCausality::Derivative => quote!(Derivative),
         };
         let modulated = element.modulated;
         quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, modulated: #modulated, causality: #rt::ElementCausality::#element_causality })
@@ -1135,13 +1226,22 @@ fn graph_description(graph: &Graph, causality: &Causality) -> TokenStream {
         let dimension = graph.bond_dims[id.0];
         quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
     });
+    let loops = equations
+        .implicit
+        .groups
+        .iter()
+        .filter(|g| g.is_loop())
+        .map(|g| {
+            let members = g.elements.iter().map(|e| e.0);
+            quote!(&[#(#members),*])
+        });
     quote! {
         /// The causal bond graph this model was generated from.
         pub const GRAPH: #rt::CausalGraph = #rt::CausalGraph {
             model: #model,
             elements: &[#(#elements),*],
             bonds: &[#(#bonds),*],
-            loops: &[],
+            loops: &[#(#loops),*],
         };
     }
 }

@@ -85,6 +85,9 @@ pub enum Rhs {
         /// How the coefficient acts.
         op: Op,
     },
+    /// Dependent storage's returned variable: the time derivative of its energy
+    /// variable along the motion (see [`crate::implicit`]); `Equations::dependent[index]`.
+    Dependent(usize),
 }
 
 /// One assignment `defines = rhs`.
@@ -125,6 +128,10 @@ pub struct Equations {
     pub ordered: Vec<Equation>,
     /// The outputs' rewritten expressions, in declaration order.
     pub outputs: Vec<Rewritten>,
+    /// Storage in derivative causality, in declaration order.
+    pub dependent: Vec<crate::implicit::Dependent>,
+    /// The unknowns solved at every evaluation (empty for an explicit model).
+    pub implicit: crate::implicit::System,
 }
 
 impl Equations {
@@ -158,9 +165,20 @@ impl Equations {
             states.dedup();
             states
         };
-        for eq in &self.ordered {
-            let states = union(&eq.deps, &reads);
-            reads.insert(eq.defines, states);
+        // Torn unknowns are read before they are computed: repeat until nothing grows
+        // (one pass for a model without them).
+        loop {
+            let mut grew = false;
+            for eq in &self.ordered {
+                let states = union(&eq.deps, &reads);
+                if reads.get(&eq.defines) != Some(&states) {
+                    grew = true;
+                    reads.insert(eq.defines, states);
+                }
+            }
+            if !grew || self.implicit.tears.is_empty() {
+                break;
+            }
         }
         self.states
             .iter()
@@ -204,6 +222,9 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
             ElementKind::I => "p",
             _ => continue,
         };
+        if causality.element[id.0] == crate::causality::ElementCausality::Derivative {
+            continue;
+        }
         let bond = element.bonds[0];
         let negate = !graph.bond(bond).points_into(id);
         let derivative = match element.kind {
@@ -247,12 +268,15 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         errors: &mut errors,
         equations: Vec::new(),
         inverses: Vec::new(),
+        dependent: Vec::new(),
     };
     for id in graph.element_ids() {
         builder.element(id);
     }
-    let equations = builder.equations;
+    let mut equations = builder.equations;
     let inverses = builder.inverses;
+    let dependent = builder.dependent;
+    crate::implicit::check_inits(graph, causality, &mut errors);
     let outputs = graph
         .outputs
         .iter()
@@ -266,12 +290,29 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         })
         .collect();
     errors.finish()?;
-    let ordered = order(graph, equations)?;
+    if dependent.is_empty() && crate::lints::allowances(graph).is_empty() {
+        let ordered = order(graph, equations)?;
+        return Ok(Equations {
+            inverses,
+            states,
+            ordered,
+            outputs,
+            dependent,
+            implicit: crate::implicit::System::default(),
+        });
+    }
+    let mut dependent = dependent;
+    crate::implicit::link_dependent(graph, &states, &mut equations, &mut dependent)?;
+    let (ordered, implicit) =
+        crate::implicit::tear(graph, causality, &states, equations, &dependent)?;
+    crate::implicit::finish_dependent(graph, &ordered, &implicit, &mut dependent)?;
     Ok(Equations {
         inverses,
         states,
         ordered,
         outputs,
+        dependent,
+        implicit,
     })
 }
 
@@ -283,6 +324,7 @@ struct Builder<'a> {
     errors: &'a mut Errors,
     equations: Vec<Equation>,
     inverses: Vec<InverseCheck>,
+    dependent: Vec<crate::implicit::Dependent>,
 }
 
 impl Builder<'_> {
@@ -303,6 +345,7 @@ impl Builder<'_> {
             Rhs::Component { of, .. } => add(*of),
             Rhs::Assemble(parts) => parts.iter().for_each(|&s| add(s)),
             Rhs::Scaled { term, .. } => add(term.signal),
+            Rhs::Dependent(_) => {}
         }
         self.equations.push(Equation {
             defines,
@@ -502,6 +545,35 @@ impl Builder<'_> {
         let negate = !self.graph.bond(bond).points_into(id);
         let (e, f) = (Signal::Effort(bond), Signal::Flow(bond));
         let state = self.state_of[id.0].map(Signal::State);
+        if self.causality.element[id.0] == crate::causality::ElementCausality::Derivative {
+            let (receives, returns) = if element.kind == ElementKind::I {
+                (f, e)
+            } else {
+                (e, f)
+            };
+            let Law::Linear(coefficient) = &element.law else {
+                self.errors.at(
+                    element.name.span(),
+                    crate::implicit::explicit_law_message(self.graph, id),
+                );
+                return;
+            };
+            let modulus = self.rewrite(coefficient);
+            let index = self.dependent.len();
+            self.dependent.push(crate::implicit::Dependent {
+                element: id,
+                receives,
+                returns,
+                negate,
+                modulus: modulus.expr,
+                modulus_deps: modulus.deps,
+                shape: Shape::of_dimension(self.graph.bond_dims[bond.0]),
+                closure: Vec::new(),
+                states: Vec::new(),
+            });
+            self.push(returns, id, Rhs::Dependent(index), Vec::new());
+            return;
+        }
         match (element.kind, &element.law, state) {
             (ElementKind::C, Law::Linear(k), Some(q)) => {
                 self.scaled(id, e, Term::plus(q), k, Op::Apply)
@@ -617,9 +689,30 @@ fn non_square_inverse(graph: &Graph, id: ElementId, n1: usize, n2: usize) -> Str
 /// Orders the equations so each follows what it reads (Kahn's algorithm, always
 /// taking the earliest-declared ready equation, so the order is deterministic).
 fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> {
+    match sequence(&equations, &[]) {
+        Ok(sequence) => Ok(arrange(equations, sequence)),
+        Err(cycle) => Err(algebraic_loop(graph, &cycle_elements(&equations, &cycle))),
+    }
+}
+
+/// The equations in the order `sequence` gives (indices into `equations`).
+pub fn arrange(equations: Vec<Equation>, sequence: Vec<usize>) -> Vec<Equation> {
+    let mut slots: Vec<Option<Equation>> = equations.into_iter().map(Some).collect();
+    sequence
+        .into_iter()
+        .filter_map(|i| slots[i].take())
+        .collect()
+}
+
+/// An order of the equations in which each follows what it reads, reading the `torn`
+/// signals as given (Kahn's algorithm, always taking the earliest-declared ready
+/// equation, so the order is deterministic); or one strongly connected set of
+/// equations that cannot be ordered (indices).
+pub fn sequence(equations: &[Equation], torn: &[Signal]) -> Result<Vec<usize>, Vec<usize>> {
     let defined_by: BTreeMap<Signal, usize> = equations
         .iter()
         .enumerate()
+        .filter(|(_, eq)| !torn.contains(&eq.defines))
         .map(|(i, eq)| (eq.defines, i))
         .collect();
     let producers = |eq: &Equation| -> Vec<usize> {
@@ -650,23 +743,26 @@ fn order(graph: &Graph, equations: Vec<Equation>) -> syn::Result<Vec<Equation>> 
         }
     }
     if sequence.len() < equations.len() {
-        let cycle = find_cycle(&equations, &waiting_on, &defined_by);
-        return Err(algebraic_loop(graph, &cycle));
+        return Err(find_cycle(equations, &waiting_on, &defined_by));
     }
-    let mut slots: Vec<Option<Equation>> = equations.into_iter().map(Some).collect();
-    Ok(sequence
-        .into_iter()
-        .filter_map(|i| slots[i].take())
-        .collect())
+    Ok(sequence)
 }
 
-/// The elements of one algebraic loop: the strongly connected set of equations (among
-/// those that could not be ordered) around a cycle, in declaration order.
-fn find_cycle(
+/// The elements of a set of equations, sorted, without repeats.
+pub fn cycle_elements(equations: &[Equation], cycle: &[usize]) -> Vec<ElementId> {
+    let mut elements: Vec<ElementId> = cycle.iter().map(|&i| equations[i].element).collect();
+    elements.sort();
+    elements.dedup();
+    elements
+}
+
+/// One algebraic loop: the strongly connected set of equations (among those that could
+/// not be ordered) around a cycle, as indices into `equations`.
+pub fn find_cycle(
     equations: &[Equation],
     waiting_on: &[usize],
     defined_by: &BTreeMap<Signal, usize>,
-) -> Vec<ElementId> {
+) -> Vec<usize> {
     let stuck = |i: usize| waiting_on[i] > 0;
     let producers = |i: usize| -> Vec<usize> {
         equations[i]
@@ -706,16 +802,13 @@ fn find_cycle(
             .collect()
     };
     let downstream = reach(current, &readers);
-    let mut elements: Vec<ElementId> = (0..equations.len())
+    (0..equations.len())
         .filter(|&i| upstream[i] && downstream[i])
-        .map(|i| equations[i].element)
-        .collect();
-    elements.sort();
-    elements.dedup();
-    elements
+        .collect()
 }
 
-fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
+/// The message for an algebraic loop the model does not allow.
+pub fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
     let names: Vec<String> = cycle.iter().map(|&id| graph.describe(id)).collect();
     // Point at a resistor on the loop if there is one: that is what the user can change.
     let blamed = cycle
@@ -729,8 +822,19 @@ fn algebraic_loop(graph: &Graph, cycle: &[ElementId]) -> syn::Error {
             "algebraic loop: {} compute each other's variables at the same instant, so there is \
              no order to evaluate them in\n\
              help: break the loop with a storage element (a small C or I where the physics has \
-             one), or combine the resistors on the loop into one R",
-            names.join(", ")
+             one), or combine the resistors on the loop into one R\n\
+             help: if the loop is meant, allow it: `#[allow(algebraic_loops)]` on {} or on the \
+             model (it is then solved at every evaluation)",
+            names.join(", "),
+            blamed.map_or_else(
+                || "an element on it".to_owned(),
+                |&id| {
+                    format!(
+                        "`{}`",
+                        crate::flatten::display(&graph.element(id).name.to_string())
+                    )
+                }
+            ),
         ),
     )
 }

@@ -5,6 +5,7 @@
 
 use syn::{Attribute, Expr, Ident, Visibility};
 
+pub use crate::allow::Lint;
 pub use crate::syntax::{ElementKind, Shape};
 
 /// Index of an element in [`Graph::elements`].
@@ -43,6 +44,31 @@ pub struct Graph {
     /// What the model says about the states of its C and I elements: a declared unit
     /// (`C spring = k, q in "m";`) and the element's doc comment.
     pub storage: Vec<StorageNote>,
+    /// The bond-graph lints the model allows (`#[allow(derivative_causality)]`), in
+    /// the order written.
+    pub allowances: Vec<Allowance>,
+}
+
+/// One bond-graph lint allowed somewhere in the model.
+pub struct Allowance {
+    /// The lint.
+    pub lint: Lint,
+    /// Its name in the attribute: where an unused allowance is reported.
+    pub span: proc_macro2::Span,
+    /// What it covers.
+    pub scope: AllowScope,
+}
+
+/// What an [`Allowance`] covers.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum AllowScope {
+    /// The whole model (written before `model`).
+    Model,
+    /// One element (written before its declaration); a junction taken apart into
+    /// components covers its components.
+    Element(ElementId),
+    /// The bonds one bond statement makes (written before it).
+    Bonds(Vec<BondId>),
 }
 
 /// The unit and documentation of a storage element's state.
@@ -211,6 +237,24 @@ impl Graph {
     /// What `id` was taken apart into, if it was.
     pub fn dissolved(&self, id: ElementId) -> Option<&Dissolved> {
         self.dissolved.iter().find(|d| d.element == id)
+    }
+
+    /// The first allowance of `lint` that covers the model, one of `elements` or one of
+    /// `bonds`: its index in [`Graph::allowances`].
+    pub fn allowance(&self, lint: Lint, elements: &[ElementId], bonds: &[BondId]) -> Option<usize> {
+        self.allowances.iter().position(|allowance| {
+            allowance.lint == lint
+                && match &allowance.scope {
+                    AllowScope::Model => true,
+                    AllowScope::Element(id) => elements.iter().any(|&e| {
+                        e == *id
+                            || self
+                                .dissolved(*id)
+                                .is_some_and(|d| d.components.contains(&e))
+                    }),
+                    AllowScope::Bonds(ids) => bonds.iter().any(|b| ids.contains(b)),
+                }
+        })
     }
 
     /// The element with this id.

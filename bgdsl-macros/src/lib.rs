@@ -8,6 +8,7 @@
 //!
 //! Users depend on `bgdsl-runtime`, which re-exports [`bond_graph!`].
 
+mod allow;
 mod causality;
 mod codegen;
 mod compliance;
@@ -19,14 +20,17 @@ mod errors;
 mod expand;
 mod flatten;
 mod hoist;
+mod implicit;
 mod ir;
 mod keywords;
+mod lints;
 mod power;
 mod resolve;
 mod rewrite;
 mod shapes;
 mod signals;
 mod split;
+mod staged;
 mod stdlib;
 mod syntax;
 mod units;
@@ -318,3 +322,6 @@ mod value_shape;
 pub fn bond_graph(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
     expand::expand(input.into()).into()
 }
+
+#[cfg(test)]
+mod expand_all;

@@ -49,6 +49,7 @@ pub fn account(graph: &Graph, equations: &Equations) -> TokenStream {
         });
         stored.push(quote!((#(#terms)+*)));
     }
+    stored.extend(crate::staged::dependent_energy(graph, equations));
     for id in graph.element_ids() {
         let element = graph.element(id);
         let bucket = match element.kind {
@@ -138,6 +139,6 @@ fn storage_law<'a>(
                 }
             }))
         }
-        Rhs::Sum(_) | Rhs::Component { .. } | Rhs::Assemble(_) => None,
+        Rhs::Sum(_) | Rhs::Component { .. } | Rhs::Assemble(_) | Rhs::Dependent(_) => None,
     }
 }

@@ -6,19 +6,24 @@ use std::collections::BTreeMap;
 
 use syn::Ident;
 
+use crate::allow::{take_lints, Placement};
 use crate::errors::Errors;
-use crate::ir::{Bond, BondId, Element, ElementId, ElementKind, Graph, Init, Law, Output, Param};
+use crate::ir::{
+    AllowScope, Allowance, Bond, BondId, Element, ElementId, ElementKind, Graph, Init, Law, Output,
+    Param,
+};
 use crate::syntax::{LawSyntax, ModelDef, Stmt};
 
 /// Names a law may use for the element's own variables; parameters may not take them.
 pub const RESERVED_NAMES: [&str; 5] = ["t", "e", "f", "q", "p"];
 
 /// Builds the graph of one model, or reports every structural mistake found.
-pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
+pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
     let mut errors = Errors::default();
     for error in model.errors {
         errors.push(error);
     }
+    let model_lints = take_lints(&mut model.attrs, Placement::Model, &mut errors);
     let mut resolver = Resolver {
         errors,
         names: BTreeMap::new(),
@@ -36,6 +41,14 @@ pub fn resolve(model: ModelDef) -> syn::Result<Graph> {
             bond_dims: Vec::new(),
             dissolved: Vec::new(),
             storage: Vec::new(),
+            allowances: model_lints
+                .into_iter()
+                .map(|(lint, span)| Allowance {
+                    lint,
+                    span,
+                    scope: AllowScope::Model,
+                })
+                .collect(),
         },
         components: Vec::new(),
     };
@@ -173,11 +186,17 @@ impl Resolver {
         }
     }
 
-    fn declare_element(&mut self, decl: crate::syntax::ElementDecl) {
+    fn declare_element(&mut self, mut decl: crate::syntax::ElementDecl) {
         let id = ElementId(self.graph.elements.len());
+        let lints = take_lints(
+            &mut decl.attrs,
+            Placement::Statement("an element"),
+            &mut self.errors,
+        );
         if !self.claim(&decl.name, Named::Element(id)) {
             return;
         }
+        self.allow(lints, AllowScope::Element(id));
         let law = self.check_law(
             decl.kind.written(decl.modulated),
             decl.kind,
@@ -451,9 +470,43 @@ impl Resolver {
         }
     }
 
-    fn connect(&mut self, chain: crate::syntax::BondChain) {
-        let mut left = chain.first;
-        for (arrow, right) in chain.links {
+    fn connect(&mut self, mut chain: crate::syntax::BondChain) {
+        if let Some(doc) = chain.attrs.iter().find(|a| a.path().is_ident("doc")) {
+            self.errors.push(syn::Error::new_spanned(
+                doc,
+                "attributes and doc comments are not allowed on a bond statement",
+            ));
+            chain.attrs.retain(|a| !a.path().is_ident("doc"));
+        }
+        let lints = take_lints(
+            &mut chain.attrs,
+            Placement::Statement("a bond statement"),
+            &mut self.errors,
+        );
+        let first_bond = self.graph.bonds.len();
+        self.connect_links(chain.first, chain.links);
+        let bonds = (first_bond..self.graph.bonds.len()).map(BondId).collect();
+        self.allow(lints, AllowScope::Bonds(bonds));
+    }
+
+    /// Records the lints allowed before a statement, covering `scope`.
+    fn allow(&mut self, lints: Vec<(crate::allow::Lint, proc_macro2::Span)>, scope: AllowScope) {
+        for (lint, span) in lints {
+            self.graph.allowances.push(Allowance {
+                lint,
+                span,
+                scope: scope.clone(),
+            });
+        }
+    }
+
+    fn connect_links(
+        &mut self,
+        first: crate::syntax::Endpoint,
+        links: Vec<(crate::syntax::Arrow, crate::syntax::Endpoint)>,
+    ) {
+        let mut left = first;
+        for (arrow, right) in links {
             let sources: Vec<Option<ElementId>> =
                 left.ports().iter().map(|p| self.lookup_port(p)).collect();
             let targets: Vec<Option<ElementId>> =
@@ -968,5 +1021,83 @@ mod should {
         assert_eq!(m.len(), 2, "{m:?}");
         assert!(m[0].contains("has the state `q`, not `p`"));
         assert!(m[1].contains("has no state"));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::allow::Lint;
+    use crate::ir::{BondId, ElementId, Graph};
+
+    fn resolved(text: &str) -> syn::Result<Graph> {
+        let file: crate::syntax::File = syn::parse_str(text).unwrap();
+        super::resolve(file.models.into_iter().next().unwrap())
+    }
+
+    fn id(graph: &Graph, name: &str) -> ElementId {
+        graph
+            .element_ids()
+            .find(|&i| graph.element(i).name == name)
+            .unwrap()
+    }
+
+    #[test]
+    fn record_where_each_lint_is_allowed() {
+        let graph = resolved(
+            "#[allow(algebraic_loops)] model M {
+                 Se push = 1.0; I m1 = 1.0; I m2 = 2.0;
+                 #[allow(derivative_causality)] 1 v;
+                 /// a damper
+                 R d = 1.0;
+                 push -> v -> m1;
+                 #[allow(derivative_causality)] v -> { m2, d };
+             }",
+        )
+        .unwrap();
+        let (m1, m2, v) = (id(&graph, "m1"), id(&graph, "m2"), id(&graph, "v"));
+        let bond_to_m2 = graph.bond_ids().find(|&b| graph.bond(b).to == m2).unwrap();
+        let bond_to_m1 = graph.bond_ids().find(|&b| graph.bond(b).to == m1).unwrap();
+        assert_eq!(graph.allowances.len(), 3);
+        assert_eq!(graph.allowance(Lint::AlgebraicLoops, &[], &[]), Some(0));
+        assert_eq!(
+            graph.allowance(Lint::DerivativeCausality, &[v], &[]),
+            Some(1)
+        );
+        assert_eq!(
+            graph.allowance(Lint::DerivativeCausality, &[m2], &[bond_to_m2]),
+            Some(2)
+        );
+        assert_eq!(
+            graph.allowance(Lint::DerivativeCausality, &[m1], &[bond_to_m1]),
+            None
+        );
+        assert_eq!(
+            graph.allowance(Lint::DerivativeCausality, &[], &[BondId(99)]),
+            None
+        );
+        // The model's own attributes keep nothing of ours.
+        assert!(graph.attrs.is_empty());
+    }
+
+    #[test]
+    fn keep_the_old_message_for_a_doc_comment_on_a_bond_statement() {
+        let error = resolved("model M { Se a = 1.0; R b = 1.0; /// no\n a -> b; }")
+            .err()
+            .unwrap();
+        assert_eq!(
+            error.to_string(),
+            "attributes and doc comments are not allowed on a bond statement"
+        );
+    }
+
+    #[test]
+    fn reject_a_misspelt_lint_on_an_element() {
+        let error = resolved("model M { Se a = 1.0; #[allow(algebraic_loop)] R b = 1.0; a -> b; }")
+            .err()
+            .unwrap();
+        assert!(
+            error.to_string().contains("did you mean `algebraic_loops`"),
+            "{error}"
+        );
     }
 }

@@ -327,6 +327,9 @@ pub struct LawForm {
 
 /// `a -> b -[label]-> { c, d };`
 pub struct BondChain {
+    /// Attributes before the statement (only `#[allow(...)]` of a bond-graph lint is
+    /// accepted; see [`crate::allow`]).
+    pub attrs: Vec<Attribute>,
     /// The first endpoint.
     pub first: Endpoint,
     /// Each arrow and the endpoint it points at.
@@ -796,20 +799,18 @@ fn parse_stmt(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Stmt
             unit,
         })
     } else if lookahead.peek(LitInt) {
-        Stmt::Element(parse_junction(input, recovered)?)
+        Stmt::Element(parse_junction(input, attrs, recovered)?)
     } else if lookahead.peek(Ident) {
         if input.peek2(Ident::peek_any) || input.peek2(syn::token::Bracket) {
             Stmt::Element(parse_element(input, attrs, recovered)?)
         } else {
-            no_attrs(&attrs, "a bond statement")?;
-            Stmt::Bonds(parse_chain(input, recovered)?)
+            Stmt::Bonds(parse_chain(input, attrs, recovered)?)
         }
     } else if lookahead.peek(syn::token::Brace) {
-        no_attrs(&attrs, "a bond statement")?;
-        Stmt::Bonds(parse_chain(input, recovered)?)
+        Stmt::Bonds(parse_chain(input, attrs, recovered)?)
     } else if input.peek(Ident::peek_any) && input.peek2(Token![-]) {
         // A bond from an element named by a keyword: `loop -> v`.
-        Stmt::Bonds(parse_chain(input, recovered)?)
+        Stmt::Bonds(parse_chain(input, attrs, recovered)?)
     } else {
         return Err(lookahead.error());
     };
@@ -836,7 +837,11 @@ fn no_attrs(attrs: &[Attribute], what: &str) -> syn::Result<()> {
     }
 }
 
-fn parse_junction(input: ParseStream, recovered: &mut Recovered) -> syn::Result<ElementDecl> {
+fn parse_junction(
+    input: ParseStream,
+    attrs: Vec<Attribute>,
+    recovered: &mut Recovered,
+) -> syn::Result<ElementDecl> {
     let lit: LitInt = input.parse()?;
     let kind = match lit.base10_digits() {
         "0" if lit.suffix().is_empty() => ElementKind::Zero,
@@ -873,7 +878,7 @@ fn parse_junction(input: ParseStream, recovered: &mut Recovered) -> syn::Result<
         });
     }
     Ok(ElementDecl {
-        attrs: Vec::new(),
+        attrs,
         kind,
         modulated: false,
         dimension,
@@ -966,7 +971,11 @@ fn parse_element(
 }
 
 /// `a -> b -[label]-> { c, d }`, up to (not including) its `;`.
-fn parse_chain(input: ParseStream, recovered: &mut Recovered) -> syn::Result<BondChain> {
+fn parse_chain(
+    input: ParseStream,
+    attrs: Vec<Attribute>,
+    recovered: &mut Recovered,
+) -> syn::Result<BondChain> {
     let first = parse_endpoint(input, recovered)?;
     let mut links = Vec::new();
     loop {
@@ -1008,7 +1017,11 @@ fn parse_chain(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Bon
             return Err(lookahead.error());
         }
     }
-    Ok(BondChain { first, links })
+    Ok(BondChain {
+        attrs,
+        first,
+        links,
+    })
 }
 
 /// One side of an arrow: a name, a splitter component, or a braced group.

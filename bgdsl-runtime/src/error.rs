@@ -159,7 +159,14 @@ pub enum SolverError {
         t: f64,
     },
     /// The model refused the state a run starts from ([`Model::check`](crate::Model::check)):
-    /// a given inverse that is not one.
+    /// a given inverse that is not one; or an evaluation of the model failed and the
+    /// model said why ([`Model::evaluation_error`](crate::Model::evaluation_error)): an
+    /// algebraic loop that did not converge, singular constraints. Every solver ends a
+    /// run with this, rather than a non-finite derivative or a step-size underflow,
+    /// when it meets a non-finite derivative (or Jacobian entry, or output) and the
+    /// model has an error to give; an adaptive or implicit method first retries with
+    /// shorter steps, as for any non-finite value, and gives the model's error if the
+    /// step size underflows.
     InvalidModel(crate::model::ModelError),
 }
 

@@ -24,6 +24,12 @@
 //! colouring and the pattern grows. [`Stats::n_jac_rhs`](crate::Stats::n_jac_rhs)
 //! counts the directional derivatives.
 //!
+//! A row whose value the model evaluates to NaN or infinity has NaN derivatives,
+//! whatever the tangents say: a model whose evaluation failed (an implicit solve that
+//! did not converge writes NaN values with zero tangents) gives a Jacobian a solver
+//! sees is not finite, and then asks the model why
+//! ([`Model::evaluation_error`](crate::Model::evaluation_error)).
+//!
 //! ```
 //! use bgdsl_runtime::{JacobianEvaluator, Model, Scalar};
 //!
@@ -55,6 +61,20 @@
 use core::fmt;
 
 use crate::dual::{Dual, DualN};
+
+/// The derivative in `lane` of a derivative the model evaluated: NaN where the value
+/// itself is not finite. A model whose evaluation failed (an implicit solve that did
+/// not converge) writes NaN values with zero tangents; the derivative of an undefined
+/// value is undefined, and a NaN entry lets the solver see it and ask the model why
+/// ([`Model::evaluation_error`]).
+#[inline(always)]
+fn derivative(d: &DualN<LANES>, lane: usize) -> f64 {
+    if d.value().is_finite() {
+        d.tangents()[lane]
+    } else {
+        f64::NAN
+    }
+}
 
 /// The number of directional derivatives (colours) [`JacobianEvaluator`] evaluates
 /// together, in one evaluation of [`Model::derivatives`] on [`DualN`]`<LANES>`.
@@ -685,11 +705,11 @@ impl JacobianEvaluator {
                     self.x_lanes[j].set_tangent(lane, 0.0);
                     if dense {
                         for (i, d) in self.dx_lanes.iter().enumerate() {
-                            jac[i * n + j] = d.tangents()[lane];
+                            jac[i * n + j] = derivative(d, lane);
                         }
                     } else {
                         for &i in &self.col_rows[self.col_start[j]..self.col_start[j + 1]] {
-                            jac[i * n + j] = self.dx_lanes[i].tangents()[lane];
+                            jac[i * n + j] = derivative(&self.dx_lanes[i], lane);
                         }
                     }
                 }
@@ -792,13 +812,13 @@ impl JacobianEvaluator {
                         xj.set_tangent(lane, 0.0);
                     }
                     for (jv, dx) in num.jv.iter_mut().zip(&self.dx_lanes) {
-                        *jv = dx.tangents()[lane];
+                        *jv = derivative(dx, lane);
                     }
                 } else {
                     for &j in &num.columns[num.colour_start[d]..num.colour_start[d + 1]] {
                         self.x_lanes[j].set_tangent(lane, 0.0);
                         for &i in &num.col_rows[num.col_start[j]..num.col_start[j + 1]] {
-                            jac[i * n + j] = self.dx_lanes[i].tangents()[lane];
+                            jac[i * n + j] = derivative(&self.dx_lanes[i], lane);
                         }
                     }
                 }
@@ -821,7 +841,7 @@ impl JacobianEvaluator {
         }
         model.derivatives(t, &self.x, &mut self.dx);
         for (o, d) in out.iter_mut().zip(&self.dx) {
-            *o = d.eps;
+            *o = if d.re.is_finite() { d.eps } else { f64::NAN };
         }
     }
 

@@ -31,6 +31,7 @@ pub mod dot;
 pub mod dual;
 pub mod error;
 pub mod graph;
+pub mod implicit;
 #[cfg(feature = "std")]
 pub mod jacobian;
 pub mod lift;
@@ -46,6 +47,7 @@ pub mod scalar;
 pub mod solver;
 #[cfg(feature = "std")]
 pub mod stepper;
+pub mod tangent;
 
 pub use bgdsl_macros::bond_graph;
 /// Unit strings parsed into SI base-unit exponents and a factor (the `bgdsl-units` crate).
@@ -72,6 +74,7 @@ pub use solver::{
 pub use solver::{DormandPrinceOptions, FixedStep, Stats};
 #[cfg(feature = "std")]
 pub use stepper::{Snapshot, SnapshotError, Stepper};
+pub use tangent::Tangent;
 
 /// The README's examples, compiled and run as doctests so they cannot rot.
 #[cfg(doctest)]

@@ -125,6 +125,32 @@ pub trait Model {
         let _ = (t, x);
         Ok(())
     }
+
+    /// The storage elements in derivative causality (`#[allow(derivative_causality)]`),
+    /// by name: they hold no state (they are not in [`Model::STATE_NAMES`]); their
+    /// co-energy variable follows from the independent states through the junction
+    /// structure, and their effort (or flow) is its time derivative along the motion.
+    /// Empty for a model without any.
+    const DEPENDENT_STORAGE: &'static [&'static str] = &[];
+
+    /// The algebraic loops the model solves at each evaluation
+    /// (`#[allow(algebraic_loops)]`), each as the names of the elements on it. Empty for
+    /// a model without any.
+    const ALGEBRAIC_LOOPS: &'static [&'static [&'static str]] = &[];
+
+    /// Why the last evaluation failed, if it did: a model that solves implicit
+    /// unknowns at each evaluation (an algebraic loop, the constraints of dependent
+    /// storage) writes NaN into the derivatives (or outputs) when the solve fails, and
+    /// says why here: [`ModelError::UnsolvedLoop`] or
+    /// [`ModelError::SingularConstraint`], with the elements, the time and the
+    /// residual. The solvers ask this when they meet a non-finite derivative and end
+    /// the run with [`SolverError::InvalidModel`](crate::SolverError::InvalidModel)
+    /// carrying it, rather than a step-size underflow; an FMU returns `fmi2Error` with
+    /// its text. A generated model clears the failure when a later solve succeeds. The
+    /// default (a model whose evaluations cannot fail this way) is `None`.
+    fn evaluation_error(&self) -> Option<ModelError> {
+        None
+    }
 }
 
 /// What [`Model::check`] finds wrong with a model at a state.
@@ -140,6 +166,30 @@ pub enum ModelError {
         t: f64,
         /// ‖M X − I‖.
         residual: f64,
+    },
+    /// The implicit unknowns of an algebraic loop (`#[allow(algebraic_loops)]`) could
+    /// not be solved: Newton's method did not converge from the previous solution, or
+    /// the loop's equations gave a non-finite value.
+    UnsolvedLoop {
+        /// The elements on the loop, comma-separated, as the model names them
+        /// (`d1, d2, j`).
+        members: &'static str,
+        /// The time of the evaluation.
+        t: f64,
+        /// The residual of the worst-converged unknown (NaN or infinite when the
+        /// equations gave a non-finite value).
+        residual: f64,
+    },
+    /// The constraints of dependent storage (`#[allow(derivative_causality)]`) or of an
+    /// algebraic loop are singular: the Jacobian of their residual has no inverse, so
+    /// the unknowns are not determined (a redundant constraint, or a mechanism at a
+    /// dead point where its mass matrix is singular).
+    SingularConstraint {
+        /// The elements constrained, comma-separated, as the model names them
+        /// (`mass2, rod`).
+        members: &'static str,
+        /// The time of the evaluation.
+        t: f64,
     },
 }
 
@@ -166,6 +216,35 @@ impl core::fmt::Display for ModelError {
                  inverse: ‖M X − I‖ = {residual:e} (at most {:e} accepted); correct the \
                  `inverse = ...` of its law",
                 ModelError::INVERSE_TOLERANCE
+            ),
+            ModelError::UnsolvedLoop {
+                members,
+                t,
+                residual,
+            } if !residual.is_finite() => write!(
+                f,
+                "at t = {t} s, the algebraic loop through {members} evaluated to \
+                 {residual}: its equations are undefined at the state reached (a law \
+                 out of its domain, e.g. exp overflowing, or a division by zero)"
+            ),
+            ModelError::UnsolvedLoop {
+                members,
+                t,
+                residual,
+            } => write!(
+                f,
+                "the algebraic loop through {members} did not converge at t = {t} s \
+                 (residual {residual:.1e}): Newton's method from the previous solution \
+                 failed; the loop's laws may have several solutions or none there, or \
+                 change too fast (a step discontinuity); smoothen the laws, or break the \
+                 loop with a small storage element"
+            ),
+            ModelError::SingularConstraint { members, t } => write!(
+                f,
+                "the constraints on {members} are singular at t = {t} s: a redundant \
+                 constraint or a dead-point configuration (the mass matrix is singular); \
+                 remove the redundant constraint, or make one joint compliant (a stiff C) \
+                 so that the constraint can be violated slightly"
             ),
         }
     }

@@ -130,8 +130,10 @@ impl<M: Model + 'static> Stepper<M> {
     ///
     /// # Errors
     ///
-    /// `t` lies before the current time, or the solver fails; the stepper then stays
-    /// where it was before the call.
+    /// `t` lies before the current time, or the solver fails (for a model that could
+    /// not evaluate, e.g. an algebraic loop that did not converge:
+    /// [`SolverError::InvalidModel`] with [`Model::evaluation_error`]); the stepper then
+    /// stays where it was before the call.
     pub fn advance_to(&mut self, t: f64) -> Result<&[f64], SolverError> {
         if !t.is_finite() || t < self.t {
             let problem = if t.is_finite() {
@@ -146,7 +148,7 @@ impl<M: Model + 'static> Stepper<M> {
             });
         }
         if t == self.t {
-            self.refresh_outputs();
+            self.refresh_outputs(t)?;
             return Ok(&self.y);
         }
         let outputs = &mut self.y;
@@ -180,7 +182,9 @@ impl<M: Model + 'static> Stepper<M> {
     ///
     /// # Errors
     ///
-    /// `x` does not have [`Model::N_STATES`] values, or one is not finite.
+    /// `x` does not have [`Model::N_STATES`] values, or one is not finite, or the
+    /// model cannot evaluate its outputs there ([`SolverError::InvalidModel`] with
+    /// [`Model::evaluation_error`]); the stepper then stays where it was.
     pub fn set_state(&mut self, t: f64, x: &[f64]) -> Result<(), SolverError> {
         if x.len() != M::N_STATES {
             return Err(SolverError::StateLengthMismatch {
@@ -197,9 +201,15 @@ impl<M: Model + 'static> Stepper<M> {
                 kind: NonFiniteKind::State,
             });
         }
+        let model = self.simulation.model();
+        model.outputs::<f64>(t, x, &mut self.y);
+        if let Err(error) = outputs_evaluated(model, &self.y) {
+            // Put the outputs of the point the stepper stays at back.
+            model.outputs::<f64>(self.t, &self.x, &mut self.y);
+            return Err(error);
+        }
         self.t = t;
         self.x.copy_from_slice(x);
-        self.refresh_outputs();
         Ok(())
     }
 
@@ -258,9 +268,12 @@ impl<M: Model + 'static> Stepper<M> {
             })
     }
 
-    fn refresh_outputs(&mut self) {
+    /// Evaluates the outputs at the current point. Fails with the model's own error
+    /// when that evaluation failed ([`Model::evaluation_error`]).
+    fn refresh_outputs(&mut self, t: f64) -> Result<(), SolverError> {
         let model = self.simulation.model();
-        model.outputs::<f64>(self.t, &self.x, &mut self.y);
+        model.outputs::<f64>(t, &self.x, &mut self.y);
+        outputs_evaluated(model, &self.y)
     }
 }
 
@@ -279,5 +292,14 @@ impl<M: WithInputs + 'static> Stepper<M> {
     pub fn advance_with(&mut self, t: f64, inputs: M::Inputs) -> Result<&[f64], SolverError> {
         self.set_inputs(inputs);
         self.advance_to(t)
+    }
+}
+
+/// The model's own error ([`Model::evaluation_error`]) if outputs `y` it just evaluated
+/// are not finite because the evaluation failed.
+fn outputs_evaluated<M: Model>(model: &M, y: &[f64]) -> Result<(), SolverError> {
+    match model.evaluation_error() {
+        Some(cause) if y.iter().any(|v| !v.is_finite()) => Err(SolverError::InvalidModel(cause)),
+        _ => Ok(()),
     }
 }

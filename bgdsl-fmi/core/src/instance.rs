@@ -290,7 +290,9 @@ impl Instance {
     // ----- variables ----------------------------------------------------------------
 
     /// `fmi2GetReal`: `values[k]` gets the variable with value reference `vrs[k]`.
-    /// Outputs and derivatives are evaluated at the current time and state.
+    /// Outputs and derivatives are evaluated at the current time and state; the call is
+    /// refused (nothing written) when the model cannot evaluate them there and says why
+    /// ([`FmuModel::evaluation_error`]).
     pub fn get_real(&mut self, vrs: &[ValueReference], values: &mut [f64]) -> CallResult {
         self.check_lengths("vr", vrs.len(), "value", values.len())?;
         let roles = self.roles(vrs)?;
@@ -300,9 +302,11 @@ impl Instance {
         }
         if needs(|r| matches!(r, Role::Derivative(_))) {
             self.model.derivatives(self.time, &self.x, &mut self.dx);
+            self.evaluated(&self.dx, "derivatives")?;
         }
         if needs(|r| matches!(r, Role::Output(_))) {
             self.model.outputs(self.time, &self.x, &mut self.y);
+            self.evaluated(&self.y, "outputs")?;
         }
         if needs(|r| matches!(r, Role::Parameter(_))) {
             self.model.parameter_values(&mut self.p);
@@ -454,12 +458,34 @@ impl Instance {
         Ok(Status::Ok)
     }
 
-    /// `fmi2GetDerivatives`: `dx/dt` at the current time and state.
+    /// `fmi2GetDerivatives`: `dx/dt` at the current time and state; refused (nothing
+    /// written) when the model cannot evaluate them there and says why
+    /// ([`FmuModel::evaluation_error`]: an algebraic loop that did not converge).
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> CallResult {
         self.check_state_count("nx", dx.len())?;
         self.refresh_state();
-        self.model.derivatives(self.time, &self.x, dx);
+        self.model.derivatives(self.time, &self.x, &mut self.dx);
+        self.evaluated(&self.dx, "derivatives")?;
+        dx.copy_from_slice(&self.dx);
         Ok(Status::Ok)
+    }
+
+    /// Whether `values` the model just evaluated (its `what`) are usable: when one is
+    /// not finite because the evaluation failed and the model says why
+    /// ([`FmuModel::evaluation_error`]), the call is refused with that message, and
+    /// nothing is handed to the importer (which may try another state or time: the
+    /// instance is unchanged).
+    fn evaluated(&self, values: &[f64], what: &str) -> Result<(), CallError> {
+        if values.iter().all(|v| v.is_finite()) {
+            return Ok(());
+        }
+        match self.model.evaluation_error() {
+            Some(reason) => refuse(format!(
+                "the {what} of {} cannot be evaluated at t = {}: {reason}",
+                self.description.model_name, self.time
+            )),
+            None => Ok(()),
+        }
     }
 
     /// `fmi2GetEventIndicators`: there are none.

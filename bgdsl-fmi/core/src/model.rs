@@ -66,6 +66,12 @@ pub trait FmuModel {
     fn derivatives(&self, t: f64, x: &[f64], dx: &mut [f64]);
     /// Writes the outputs at `(t, x)` into `y`.
     fn outputs(&self, t: f64, x: &[f64], y: &mut [f64]);
+    /// Why the last evaluation of the derivatives or outputs failed, if it did
+    /// ([`Model::evaluation_error`]: an algebraic loop that did not converge, singular
+    /// constraints), as the sentence to log. The default: evaluations do not fail so.
+    fn evaluation_error(&self) -> Option<String> {
+        None
+    }
     /// Writes the parameter values into `out`.
     fn parameter_values(&self, out: &mut [f64]);
     /// Sets the parameter values from `values`.
@@ -202,6 +208,12 @@ impl<M: Exportable> FmuModel for Adapter<M> {
 
     fn outputs(&self, t: f64, x: &[f64], y: &mut [f64]) {
         self.model().outputs::<f64>(t, x, y);
+    }
+
+    fn evaluation_error(&self) -> Option<String> {
+        self.model()
+            .evaluation_error()
+            .map(|error| error.to_string())
     }
 
     fn parameter_values(&self, out: &mut [f64]) {

@@ -9,7 +9,10 @@ use std::sync::Mutex;
 
 use bgdsl_fmi_core::fmi2::{CallbackFunctions, CallbackLogger, Component, Status, FALSE, TRUE};
 use bgdsl_fmi_core::{model_description_xml, ModelDescription, ModelEntry, Role};
-use bgdsl_runtime::{bond_graph, InputInfo, Model, Scalar, Solver, Stepper, WithInputs};
+use bgdsl_runtime::implicit::{Failure, FailureKind, ImplicitMemory};
+use bgdsl_runtime::{
+    bond_graph, InputInfo, Model, ModelError, Scalar, Solver, Stepper, WithInputs,
+};
 
 bond_graph! {
     /// A mass pushed by a force the host sets.
@@ -86,10 +89,83 @@ impl WithInputs for Fragile {
     fn set_input_values(&mut self, _: &[f64]) {}
 }
 
+/// `dx/dt = -x` through an algebraic loop (`d1, d2`) that stops converging after
+/// t = 0.5: its evaluations then write NaN and record why, as generated code does.
+#[derive(Clone, Debug, Default)]
+struct Looped {
+    memory: ImplicitMemory<1>,
+}
+
+impl Looped {
+    fn solve(&self, t: f64) -> bool {
+        if t > 0.5 {
+            self.memory.record(Failure {
+                kind: FailureKind::NotConverged,
+                unknown: 0,
+                t,
+                residual: 3.2e-3,
+            });
+            return false;
+        }
+        self.memory.clear_failure();
+        true
+    }
+}
+
+impl Model for Looped {
+    type Params = ();
+    const NAME: &'static str = "Looped";
+    const STATE_NAMES: &'static [&'static str] = &["x"];
+    const OUTPUT_NAMES: &'static [&'static str] = &["twice_x"];
+    const ALGEBRAIC_LOOPS: &'static [&'static [&'static str]] = &[&["d1", "d2"]];
+
+    fn params(&self) -> &() {
+        &()
+    }
+
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0[0] = 1.0;
+    }
+
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        dx[0] = if self.solve(t) {
+            -x[0]
+        } else {
+            T::from_f64(f64::NAN)
+        };
+    }
+
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]) {
+        y[0] = if self.solve(t) {
+            T::from_f64(2.0) * x[0]
+        } else {
+            T::from_f64(f64::NAN)
+        };
+    }
+
+    fn evaluation_error(&self) -> Option<ModelError> {
+        self.memory.failure().map(|f| f.to_model_error("d1, d2"))
+    }
+
+    fn default_solver(&self) -> Solver {
+        Solver::dopri5()
+    }
+}
+
+impl WithInputs for Looped {
+    type Inputs = ();
+    const INPUTS: &'static [InputInfo] = &[];
+    fn inputs(&self) {}
+    fn set_inputs(&mut self, _: ()) {}
+    fn input_values(&self, _: &mut [f64]) {}
+    fn set_input_values(&mut self, _: &[f64]) {}
+}
+
 static MODELS: &[ModelEntry] = &[
     ModelEntry::new::<Pushed>("pushed"),
     ModelEntry::new::<Fragile>("fragile"),
     ModelEntry::new::<Turned>("turned"),
+    ModelEntry::new::<Looped>("looped"),
 ];
 
 bgdsl_fmi_core::export_fmi2!(MODELS);
@@ -254,6 +330,76 @@ fn a_failed_step_is_discarded_and_the_fmu_stays_where_it_was() {
         fmi2FreeInstance(c);
     }
     assert_eq!(last, 0.25);
+}
+
+/// Model Exchange: derivatives or outputs the model cannot evaluate (its loop did not
+/// converge) are an fmi2Error with the model's sentence, and no NaN reaches the
+/// importer, which may go on from another time.
+#[test]
+fn a_failed_evaluation_is_an_error_with_the_models_message() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let c = instantiate::<Looped>(0, &cb);
+    let description = ModelDescription::of::<Looped>();
+    let vr = |name: &str| description.variables.find(name).unwrap().value_reference;
+    let (output, derivative) = (vr("twice_x"), vr("der(x)"));
+    let mut dx = [7.0];
+    let mut y = [7.0];
+    // SAFETY: a live component and arrays of the lengths passed.
+    unsafe {
+        assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2EnterContinuousTimeMode(c), Status::Ok);
+        assert_eq!(fmi2SetTime(c, 0.75), Status::Ok);
+        assert_eq!(fmi2GetDerivatives(c, dx.as_mut_ptr(), 1), Status::Error);
+        let (status, message) = log.last();
+        assert_eq!(status, Status::Error as c_int);
+        assert!(
+            message.contains(
+                "the derivatives of Looped cannot be evaluated at t = 0.75: the algebraic \
+                 loop through d1, d2 did not converge at t = 0.75 s (residual 3.2e-3)"
+            ),
+            "{message}"
+        );
+        assert_eq!(dx, [7.0], "nothing written");
+        for vr in [output, derivative] {
+            assert_eq!(fmi2GetReal(c, &vr, 1, y.as_mut_ptr()), Status::Error);
+            assert!(
+                log.last().1.contains("did not converge"),
+                "{:?}",
+                log.last()
+            );
+        }
+        assert_eq!(y, [7.0], "nothing written");
+        // Nothing changed: back in time, the model evaluates.
+        assert_eq!(fmi2SetTime(c, 0.25), Status::Ok);
+        assert_eq!(fmi2GetDerivatives(c, dx.as_mut_ptr(), 1), Status::Ok);
+        assert_eq!(fmi2GetReal(c, &output, 1, y.as_mut_ptr()), Status::Ok);
+        fmi2FreeInstance(c);
+    }
+    assert_eq!((dx, y), ([-1.0], [2.0]));
+}
+
+/// Co-Simulation: a step through the failure is discarded with the model's sentence.
+#[test]
+fn a_step_through_a_failed_evaluation_is_discarded_with_the_models_message() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let c = instantiate::<Looped>(1, &cb);
+    // SAFETY: a live component.
+    unsafe {
+        assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.25, TRUE), Status::Ok);
+        assert_eq!(fmi2DoStep(c, 0.25, 0.5, TRUE), Status::Discard);
+        let (status, message) = log.last();
+        assert_eq!(status, Status::Discard as c_int);
+        assert!(
+            message.contains("the step from t = 0.25 to t = 0.75 failed: the algebraic loop through d1, d2 did not converge at t = 0.5"),
+            "{message}"
+        );
+        fmi2FreeInstance(c);
+    }
 }
 
 #[test]

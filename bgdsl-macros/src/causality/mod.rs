@@ -30,6 +30,9 @@ pub enum ElementCausality {
     Conductance,
     /// Sources, junctions, TF and GY: nothing to choose.
     Fixed,
+    /// Storage whose input is fixed by the rest of the graph (allowed with
+    /// `#[allow(derivative_causality)]`): dependent storage, without a state.
+    Derivative,
 }
 
 /// The result of causality assignment.
@@ -40,6 +43,9 @@ pub struct Causality {
     pub stroke_at: Vec<ElementId>,
     /// For each element, its causality.
     pub element: Vec<ElementCausality>,
+    /// The storage elements in derivative causality, in declaration order, each with
+    /// the allowance (its index in the model's allowances) that permits it.
+    pub dependent: Vec<(ElementId, usize)>,
 }
 
 /// A mistake SCAP found, as data; [`render`] turns it into a message.
@@ -109,6 +115,7 @@ pub fn assign(graph: &Graph) -> Result<Causality, Vec<CausalityError>> {
         queue: VecDeque::new(),
         trail: Vec::new(),
         errors: Vec::new(),
+        dependent: Vec::new(),
     };
     let of_kind = |kinds: &[ElementKind]| -> Vec<ElementId> {
         graph
@@ -201,6 +208,8 @@ struct Scap<'g> {
     /// Every bond assigned, in order, so a choice can be undone back to a checkpoint.
     trail: Vec<BondId>,
     errors: Vec<CausalityError>,
+    /// Storage elements allowed into derivative causality, with their allowance.
+    dependent: Vec<(ElementId, usize)>,
 }
 
 /// Two requirements met at `at`: the one already there came from `first`.
@@ -227,7 +236,20 @@ impl Scap<'_> {
                 if self.graph.element(id).kind == ElementKind::R
                     && self.resistor_accepts(id, stroke.at) => {}
             Some(stroke) => {
-                let error = match self.graph.element(id).kind {
+                let kind = self.graph.element(id).kind;
+                if matches!(kind, ElementKind::C | ElementKind::I) {
+                    let allowed = crate::lints::allowance(
+                        self.graph,
+                        crate::lints::Lint::DerivativeCausality,
+                        &[id],
+                        &[bond],
+                    );
+                    if let Some(allowance) = allowed {
+                        self.dependent.push((id, allowance));
+                        return;
+                    }
+                }
+                let error = match kind {
                     ElementKind::C | ElementKind::I => CausalityError::Derivative {
                         element: id,
                         path: self.path_to(bond, id),
@@ -615,6 +637,9 @@ impl Scap<'_> {
         let element = graph
             .element_ids()
             .map(|id| match graph.element(id).kind {
+                ElementKind::C | ElementKind::I if self.dependent.iter().any(|&(d, _)| d == id) => {
+                    ElementCausality::Derivative
+                }
                 ElementKind::C | ElementKind::I => ElementCausality::Integral,
                 ElementKind::R => {
                     let bond = graph.element(id).bonds[0];
@@ -627,7 +652,11 @@ impl Scap<'_> {
                 _ => ElementCausality::Fixed,
             })
             .collect();
-        Ok(Causality { stroke_at, element })
+        Ok(Causality {
+            stroke_at,
+            element,
+            dependent: self.dependent,
+        })
     }
 }
 
@@ -741,13 +770,21 @@ pub fn render(graph: &Graph, error: &CausalityError) -> syn::Error {
                         .to_owned(),
                 ),
             };
+            let meant = if kind == forcer_kind {
+                "the rigid connection"
+            } else {
+                "the constraint"
+            };
             let mut e = syn::Error::new(
                 span(*element),
                 format!(
-                    "{} is forced into derivative causality by {} (path: {}); {why}\nhelp: {help}",
+                    "{} is forced into derivative causality by {} (path: {}); {why}\nhelp: {help}\n\
+                     help: if {meant} is meant, allow it: `#[allow(derivative_causality)]` on `{}` \
+                     or on the model (it then has no state of its own)",
                     name(*element),
                     name(forced_by),
-                    route(graph, path)
+                    route(graph, path),
+                    shown(*element),
                 ),
             );
             if forced_by != *element {

@@ -87,6 +87,7 @@ fn build(recipe: &Recipe) -> Graph {
         bond_dims: Vec::new(),
         dissolved: Vec::new(),
         storage: Vec::new(),
+        allowances: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());

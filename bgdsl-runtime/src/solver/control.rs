@@ -9,7 +9,7 @@ use super::options::{DormandPrinceOptions, FixedStep};
 use super::stats::Stats;
 use crate::error::SolverError;
 use crate::math;
-use crate::model::Model;
+use crate::model::{Model, ModelError};
 
 /// The smallest step the time axis resolves at `t`.
 pub(crate) fn min_step(t: f64) -> f64 {
@@ -165,6 +165,9 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
     ) -> Result<(), SolverError> {
         // The non-finite value that made the last attempt fail, if that is why it failed.
         let mut failure: Option<NonFinite> = None;
+        // The model's own error from an attempt of this step that failed on it: the
+        // run's error if the step size underflows, whatever later attempts failed on.
+        let mut model_failure: Option<ModelError> = None;
         loop {
             let t = *self.t;
             // Stretch a step that would end within 1 % of the end.
@@ -174,9 +177,10 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
                 (t + a.h, a.h)
             };
             if h_try.is_nan() || h_try < min_step(t) {
-                return Err(match failure {
-                    Some(nf) => non_finite::<M>(nf),
-                    None => SolverError::StepSizeTooSmall { t, h: h_try },
+                return Err(match (model_failure, failure) {
+                    (Some(cause), _) => SolverError::InvalidModel(cause),
+                    (None, Some(nf)) => non_finite::<M>(nf),
+                    (None, None) => SolverError::StepSizeTooSmall { t, h: h_try },
                 });
             }
             if self.stats.steps() >= a.max_steps {
@@ -192,6 +196,9 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
             {
                 // Probably a step out of the model's domain: retry a shorter one.
                 self.stats.rejected += 1;
+                if nf.cause.is_some() {
+                    model_failure.clone_from(&nf.cause);
+                }
                 failure = Some(nf);
                 a.h = a.control.after_failure(h_try);
                 continue;

@@ -491,7 +491,13 @@ impl<'m, M: Model> Simulation<'m, M> {
         } else {
             &self.x
         };
-        self.model.get().outputs::<f64>(t, x, &mut self.y);
+        let model = self.model.get();
+        model.outputs::<f64>(t, x, &mut self.y);
+        if self.y.iter().any(|v| !v.is_finite()) {
+            if let Some(cause) = model.evaluation_error() {
+                return Err(SolverError::InvalidModel(cause));
+            }
+        }
         recorder.record(t, x, &self.y);
         if recorder.stop_requested() {
             return Err(SolverError::Stopped { t });

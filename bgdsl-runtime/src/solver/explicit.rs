@@ -24,16 +24,20 @@ use core::fmt::Debug;
 use super::tableau::Tableau;
 use crate::error::{NonFiniteKind, SolverError};
 use crate::math;
-use crate::model::Model;
+use crate::model::{Model, ModelError};
 
 /// A non-finite value met while stepping; [`non_finite`] turns it into
-/// [`SolverError::NonFiniteState`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// [`SolverError::NonFiniteState`], or into [`SolverError::InvalidModel`] when the
+/// model said why its evaluation failed.
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct NonFinite {
     pub t: f64,
     pub index: usize,
     pub value: f64,
     pub kind: NonFiniteKind,
+    /// What the model said right after the evaluation that gave the value
+    /// ([`Model::evaluation_error`]): an implicit solve that failed.
+    pub cause: Option<ModelError>,
 }
 
 /// Where the kernel keeps its vectors.
@@ -354,8 +358,9 @@ fn combine<V: AsRef<[f64]>>(out: &mut [f64], x: &[f64], h: f64, w: &[f64], k: &[
     }
 }
 
-/// Evaluates `out = f(t, x)` and checks it is finite.
-fn eval<M: Model>(
+/// Evaluates `out = f(t, x)`, counting it, and checks it is finite (asking the model
+/// why if it is not).
+pub(crate) fn eval<M: Model>(
     model: &M,
     t: f64,
     x: &[f64],
@@ -371,6 +376,7 @@ fn eval<M: Model>(
             index,
             value: out[index],
             kind: NonFiniteKind::Derivative,
+            cause: model.evaluation_error(),
         }),
     }
 }
@@ -384,12 +390,17 @@ pub(crate) fn check_state(x: &[f64], t: f64) -> Result<(), NonFinite> {
             index,
             value: x[index],
             kind: NonFiniteKind::State,
+            cause: None,
         }),
     }
 }
 
-/// Names the state of a kernel's non-finite value.
+/// Names the state of a kernel's non-finite value, or gives the model's own error when
+/// it said why its evaluation failed.
 pub(crate) fn non_finite<M: Model>(nf: NonFinite) -> SolverError {
+    if let Some(cause) = nf.cause {
+        return SolverError::InvalidModel(cause);
+    }
     SolverError::NonFiniteState {
         t: nf.t,
         state: M::STATE_NAMES.get(nf.index).copied().unwrap_or("?"),

@@ -19,12 +19,13 @@ mod rosenbrock;
 use std::time::Instant;
 
 use super::control::min_step;
+pub(crate) use super::explicit::eval;
 use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
-use crate::error::{NonFiniteKind, SolverError};
+use crate::error::SolverError;
 use crate::jacobian::JacobianEvaluator;
 use crate::linalg::{Factored, Singular, Structure};
-use crate::model::Model;
+use crate::model::{Model, ModelError};
 
 pub(crate) use options::Common;
 pub use options::{Radau5Options, Rodas4Options};
@@ -32,7 +33,7 @@ pub(crate) use radau::Radau5;
 pub(crate) use rosenbrock::{Rosenbrock, RODAS4};
 
 /// The result of one step attempt.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Attempt {
     /// The step was computed; [`ImplicitMethod::x_new`] holds the proposed solution.
     Done {
@@ -131,7 +132,7 @@ impl LuCount {
 }
 
 /// Why the last attempt failed, for the error reported if the step size underflows.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 enum Failure {
     Newton { iterations: usize },
     NonFinite(NonFinite),
@@ -175,6 +176,10 @@ pub(crate) struct StiffIntegrator<S> {
     err_acc: f64,
     singular_in_a_row: usize,
     failure: Option<Failure>,
+    /// The model's own error ([`Model::evaluation_error`]) from an attempt of the
+    /// current step that failed on it: the run's error if the step size underflows,
+    /// whatever the later attempts failed on.
+    model_failure: Option<ModelError>,
     started: Instant,
 }
 
@@ -206,6 +211,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             err_acc: 1.0,
             singular_in_a_row: 0,
             failure: None,
+            model_failure: None,
             started: Instant::now(),
         }
     }
@@ -232,6 +238,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         self.err_acc = 1.0;
         self.singular_in_a_row = 0;
         self.failure = None;
+        self.model_failure = None;
         eval(model, t, x, &mut self.f0, &mut stats.n_rhs).map_err(non_finite::<M>)?;
         let h = match self.settings.initial_step {
             Some(h) => h,
@@ -373,6 +380,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             core::mem::swap(&mut self.f0, &mut self.f_new);
             stats.accepted += 1;
             self.failure = None;
+            self.model_failure = None;
             self.first = false;
             self.jac_current = false;
             self.jac_keep = keep_jacobian;
@@ -399,6 +407,12 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
 
     /// Records a failed attempt and shrinks the step.
     fn fail(&mut self, failure: Failure, h: f64, factor: f64) {
+        if let Failure::NonFinite(NonFinite {
+            cause: Some(cause), ..
+        }) = &failure
+        {
+            self.model_failure = Some(cause.clone());
+        }
         self.failure = Some(failure);
         self.last_rejected = true;
         self.h = h * factor;
@@ -407,7 +421,10 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
     /// The error for a step size that fell below the resolution of the time axis: the
     /// reason the last attempt failed, if it failed.
     fn underflow_error<M: Model>(&self, t: f64, h: f64) -> SolverError {
-        match self.failure {
+        if let Some(cause) = &self.model_failure {
+            return SolverError::InvalidModel(cause.clone());
+        }
+        match self.failure.clone() {
             Some(Failure::Newton { iterations }) => {
                 SolverError::NewtonDiverged { t, h, iterations }
             }
@@ -447,6 +464,9 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             jac.iter().position(|v| !v.is_finite())
         };
         if let Some(k) = non_finite {
+            if let Some(cause) = model.evaluation_error() {
+                return Err(SolverError::InvalidModel(cause));
+            }
             let name = |i: usize| M::STATE_NAMES.get(i).copied().unwrap_or("?");
             return Err(SolverError::NonFiniteJacobian {
                 t,
@@ -582,27 +602,6 @@ impl StiffKernel {
             StiffKernel::Radau5(k) => k.interpolate(t, out),
             StiffKernel::Rosenbrock(k) => k.interpolate(t, out),
         }
-    }
-}
-
-/// Evaluates `out = f(t, x)`, counting it, and checks it is finite.
-pub(crate) fn eval<M: Model>(
-    model: &M,
-    t: f64,
-    x: &[f64],
-    out: &mut [f64],
-    n_rhs: &mut usize,
-) -> Result<(), NonFinite> {
-    model.derivatives::<f64>(t, x, out);
-    *n_rhs += 1;
-    match out.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(index) => Err(NonFinite {
-            t,
-            index,
-            value: out[index],
-            kind: NonFiniteKind::Derivative,
-        }),
     }
 }
 
