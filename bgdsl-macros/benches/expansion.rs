@@ -35,6 +35,8 @@ mod flatten;
 mod hoist;
 #[path = "../src/ir.rs"]
 mod ir;
+#[path = "../src/implicit.rs"]
+mod implicit;
 #[path = "../src/keywords.rs"]
 mod keywords;
 #[path = "../src/power.rs"]
@@ -49,6 +51,8 @@ mod shapes;
 mod signals;
 #[path = "../src/split.rs"]
 mod split;
+#[path = "../src/staged.rs"]
+mod staged;
 #[path = "../src/stdlib.rs"]
 mod stdlib;
 #[path = "../src/syntax.rs"]

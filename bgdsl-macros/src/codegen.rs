@@ -169,11 +169,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
         let text = format!("The bond-graph model `{name}`.");
         quote!(#[doc = #text])
     };
-    let attrs: Vec<&syn::Attribute> = graph
-        .attrs
-        .iter()
-        .filter(|a| !crate::lints::is_allowance(a))
-        .collect();
+    let attrs = &graph.attrs;
     let name_str = name.to_string();
     let HostInterface {
         inputs_struct,

@@ -290,7 +290,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         })
         .collect();
     errors.finish()?;
-    if dependent.is_empty() && crate::lints::allowances(graph).is_empty() {
+    if dependent.is_empty() && graph.allowances.is_empty() {
         let ordered = order(graph, equations)?;
         return Ok(Equations {
             inverses,

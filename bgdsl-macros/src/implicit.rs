@@ -22,8 +22,8 @@ use syn::Expr;
 use crate::causality::{Causality, ElementCausality};
 use crate::equations::{cycle_elements, sequence, Derivative, Equation, Rhs, State};
 use crate::errors::Errors;
+use crate::ir::Lint;
 use crate::ir::{ElementId, ElementKind, Graph, Shape};
-use crate::lints::Lint;
 use crate::signals::Signal;
 
 /// A storage element in derivative causality.
@@ -251,7 +251,7 @@ pub fn tear(
                     Signal::State(_) => None,
                 })
                 .collect();
-            match crate::lints::allowance(graph, Lint::AlgebraicLoops, &elements, &bonds) {
+            match graph.allowance(Lint::AlgebraicLoops, &elements, &bonds) {
                 Some(a) => Some(a),
                 None => return Err(crate::equations::algebraic_loop(graph, &elements)),
             }
@@ -291,8 +291,7 @@ pub fn tear(
         };
         tear_group.push(group);
     };
-    let _ = causality;
-    check_unused(graph, dependent, &groups)?;
+    check_unused(graph, causality, &groups)?;
     let ordered = crate::equations::arrange(equations, order);
     let mut offset = 0;
     let tears: Vec<Tear> = torn
@@ -406,11 +405,40 @@ fn is_linear(
 }
 
 /// An allowance nothing uses is an error, so a stale opt-in never hides anything.
-fn check_unused(graph: &Graph, dependent: &[Dependent], groups: &[Group]) -> syn::Result<()> {
-    let _ = dependent;
-    let _ = groups;
-    let _ = graph;
-    Ok(())
+fn check_unused(graph: &Graph, causality: &Causality, groups: &[Group]) -> syn::Result<()> {
+    let mut errors = Errors::default();
+    for (index, allowance) in graph.allowances.iter().enumerate() {
+        let used = causality.dependent.iter().any(|&(_, a)| a == index)
+            || groups.iter().any(|g| g.allowance == Some(index));
+        if used {
+            continue;
+        }
+        let what = match allowance.lint {
+            Lint::DerivativeCausality => {
+                "no storage element it covers takes derivative causality (each keeps its own state)"
+            }
+            Lint::AlgebraicLoops => "no algebraic loop runs through what it covers",
+        };
+        let earlier = graph
+            .allowances
+            .iter()
+            .take(index)
+            .any(|a| a.lint == allowance.lint);
+        let also = if earlier {
+            " (or an allowance written earlier already covers it)"
+        } else {
+            ""
+        };
+        errors.at(
+            allowance.span,
+            format!(
+                "`{}` is not needed: {what}{also}\nhelp: remove it, so that a stale opt-in never \
+                 hides a mistake",
+                allowance.lint.name()
+            ),
+        );
+    }
+    errors.finish()
 }
 
 /// Places the closure of each dependent element in the final order, and refuses an E

@@ -23,7 +23,6 @@ mod hoist;
 mod implicit;
 mod ir;
 mod keywords;
-mod lints;
 mod power;
 mod resolve;
 mod rewrite;

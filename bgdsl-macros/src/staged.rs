@@ -342,8 +342,3 @@ pub fn dependent_energy(graph: &Graph, equations: &Equations) -> Vec<TokenStream
         })
         .collect()
 }
-
-/// Whether `signal` is read as an unknown.
-pub fn is_torn(equations: &Equations, signal: Signal) -> bool {
-    equations.implicit.tears.iter().any(|t| t.signal == signal)
-}

@@ -238,12 +238,9 @@ impl Scap<'_> {
             Some(stroke) => {
                 let kind = self.graph.element(id).kind;
                 if matches!(kind, ElementKind::C | ElementKind::I) {
-                    let allowed = crate::lints::allowance(
-                        self.graph,
-                        crate::lints::Lint::DerivativeCausality,
-                        &[id],
-                        &[bond],
-                    );
+                    let allowed =
+                        self.graph
+                            .allowance(crate::ir::Lint::DerivativeCausality, &[id], &[bond]);
                     if let Some(allowance) = allowed {
                         self.dependent.push((id, allowance));
                         return;
