@@ -8,8 +8,13 @@
 //!   driven through the paper's compliant drive coupling).
 //! - [`pose`]: the closed-form pose the bond graph's moduli read.
 
+pub mod model;
 pub mod pose;
 pub mod reference;
 
+pub use model::{
+    QuickReturnRigid, QuickReturnRigidCoupled, QuickReturnRigidCoupledParams,
+    QuickReturnRigidParams,
+};
 pub(crate) use reference::rigid_params_of;
 pub use reference::*;

@@ -154,7 +154,14 @@ pub const ROD: usize = 3;
 pub const OUTPUT: usize = 4;
 
 /// The centre of mass of link `link` ([`CRANK`] … [`OUTPUT`]) at crank angle `theta`.
-pub fn centre_of<S: Scalar>(link: usize, theta: S, crank: S, d: S, rocker: S, rod: S) -> Vector2<S> {
+pub fn centre_of<S: Scalar>(
+    link: usize,
+    theta: S,
+    crank: S,
+    d: S,
+    rocker: S,
+    rod: S,
+) -> Vector2<S> {
     Pose::at(theta, crank, d, rocker, rod).centres()[link]
 }
 
@@ -219,7 +226,10 @@ mod tests {
             let w4x = pose.output_closure(0.4) * v_t;
             let rod_perp = vec2(-pose.rod_dir.y, pose.rod_dir.x);
             let end = v_t + rod_perp * (0.4 * w4x.x);
-            assert!((end - vec2(w4x.y, 0.0)).norm() < 1e-13, "θ = {theta}: {end:?}");
+            assert!(
+                (end - vec2(w4x.y, 0.0)).norm() < 1e-13,
+                "θ = {theta}: {end:?}"
+            );
         }
     }
 }
