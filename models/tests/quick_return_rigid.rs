@@ -2,6 +2,8 @@
 //! (`models::quick_return_rigid::model`), against the rigid-body inverse dynamics of
 //! `models::quick_return_rigid::reference` (Newton–Euler, written independently).
 
+mod common;
+
 use core::f64::consts::TAU;
 
 use bgdsl_runtime::{simulate, DormandPrinceOptions, Model, Solver, Trajectory};
@@ -234,4 +236,58 @@ fn coupled_drive_has_the_papers_period_and_ratio() {
     let ratio = mean(&forward) / mean(&back);
     eprintln!("period {period}, ratio {ratio}");
     assert!((ratio - 2.0).abs() < 0.06, "time ratio {ratio}");
+}
+
+/// The number after `label` on the summary's line that starts with it.
+fn summary_number(summary: &str, label: &str) -> f64 {
+    let line = summary
+        .lines()
+        .find(|l| l.trim_start().starts_with(label))
+        .unwrap_or_else(|| panic!("no line `{label}` in\n{summary}"));
+    line.trim_start()[label.len()..]
+        .split_whitespace()
+        .next()
+        .and_then(|w| w.parse().ok())
+        .unwrap_or_else(|| panic!("no number in `{line}`"))
+}
+
+/// `models run quick_return_rigid` writes the spec's results file and prints the
+/// measured peaks beside the rigid values: every number is the run's own, so with the
+/// drive at 4 rad/s instead of 5 the printed peak torque is the reference's at 4 rad/s
+/// (not the default's 54.71 N·m), and the period 2π/4 s.
+#[test]
+fn catalogue_run_prints_what_the_run_measured() {
+    for w in [5.0, 4.0] {
+        let dir = common::scratch(&format!("quick_return_rigid_{w}"));
+        let set = format!("w_drive={w}");
+        let out = common::run(&[
+            "run",
+            "quick_return_rigid",
+            "--no-plots",
+            "--set",
+            &set,
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        common::assert_success(&out);
+        assert!(dir.join("quick_return.csv").is_file());
+        let rigid = RigidParams {
+            R3C: 20.0,
+            R5C: 20.0,
+            ..RigidParams::default()
+        };
+        let reference_peak = (0..3600)
+            .map(|i| rigid_state(TAU * f64::from(i) / 3600.0, w, 0.0, &rigid).tc[2].abs())
+            .fold(0.0, f64::max);
+        let torque = summary_number(&out.stdout, "peak drive torque |Tc|");
+        assert!(
+            (torque - reference_peak).abs() < 5e-3 * reference_peak,
+            "{w} rad/s: {torque} vs {reference_peak}\n{}",
+            out.stdout
+        );
+        let period = summary_number(&out.stdout, "period");
+        assert!((period - TAU / w).abs() < 1e-4, "{period}\n{}", out.stdout);
+        let ratio = summary_number(&out.stdout, "quick-return time ratio");
+        assert!((ratio - 2.0).abs() < 1e-3, "{ratio}");
+    }
 }
