@@ -67,10 +67,13 @@ fn rigid_methods() -> [(&'static str, Solver); 4] {
         ("dopri5", dopri5(1e-6)),
         ("radau5", radau5(1e-6, 1e-9)),
         ("rodas4", rodas4(1e-6)),
-        ("rk4_1ms", Solver::Rk4(FixedStep {
+        (
+            "rk4_1ms",
+            Solver::Rk4(FixedStep {
                 step: 1e-3,
                 ..Default::default()
-            })),
+            }),
+        ),
     ]
 }
 

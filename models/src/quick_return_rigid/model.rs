@@ -68,8 +68,8 @@ use bgdsl_runtime::bond_graph;
 use bgdsl_runtime::multibond::box_inertia;
 
 use super::pose::{
-    about_z, centre_of, crank_lever, in_plane, in_plane_scaled, output_closure, rocker_lever,
-    rod_angle, rod_lever, rotation, slider_closure, vec2, CRANK, OUTPUT, ROCKER, ROD, SLIDER,
+    about_z, centre_of, crank_lever, in_plane, in_plane_scaled, mass_moment_y, output_closure,
+    rocker_lever, rod_angle, rod_lever, rotation, slider_closure, vec2, OUTPUT, ROCKER,
 };
 
 // The model text between the markers below is shown in README.md (as a doctest that
@@ -247,10 +247,7 @@ bond_graph! {
                 + box_inertia(m2, l2.x, l2.y, l2.z).z * links.slider.w.f * links.slider.w.f
                 + box_inertia(m3, l3.x, l3.y, l3.z).z * links.rocker.w.f * links.rocker.w.f
                 + box_inertia(m4, l4.x, l4.y, l4.z).z * links.rod.w.f * links.rod.w.f)
-            + g * (m1 * centre_of(CRANK, links.theta, l1.x, d, l3.x, l4.x).y
-                + m2 * centre_of(SLIDER, links.theta, l1.x, d, l3.x, l4.x).y
-                + m3 * centre_of(ROCKER, links.theta, l1.x, d, l3.x, l4.x).y
-                + m4 * centre_of(ROD, links.theta, l1.x, d, l3.x, l4.x).y) in "J";
+            + g * mass_moment_y(links.theta, l1.x, d, l3.x, l4.x, [m1, m2, m3, m4]) in "J";
         /// Power delivered by the drive
         output P_in = drive.e * drive.f in "W";
         /// Power dissipated by the slides' friction
@@ -353,10 +350,7 @@ bond_graph! {
                 + box_inertia(m3, l3.x, l3.y, l3.z).z * links.rocker.w.f * links.rocker.w.f
                 + box_inertia(m4, l4.x, l4.y, l4.z).z * links.rod.w.f * links.rod.w.f
                 + coupling_spring.q * coupling_spring.e)
-            + g * (m1 * centre_of(CRANK, links.theta, l1.x, d, l3.x, l4.x).y
-                + m2 * centre_of(SLIDER, links.theta, l1.x, d, l3.x, l4.x).y
-                + m3 * centre_of(ROCKER, links.theta, l1.x, d, l3.x, l4.x).y
-                + m4 * centre_of(ROD, links.theta, l1.x, d, l3.x, l4.x).y) in "J";
+            + g * mass_moment_y(links.theta, l1.x, d, l3.x, l4.x, [m1, m2, m3, m4]) in "J";
         /// Power delivered by the drive
         output P_in = drive.e * drive.f in "W";
         /// Power dissipated by the slides' friction and the coupling

@@ -71,24 +71,17 @@ pub struct Pose<S: Scalar> {
 impl<S: Scalar> Pose<S> {
     /// The pose (see the [module documentation](self)).
     pub fn at(theta: S, crank: S, d: S, rocker: S, rod: S) -> Self {
-        let zero = S::from_f64(0.0);
-        let crank_dir = vec2(theta.cos(), theta.sin());
-        let pin = crank_dir * crank;
-        let pivot = vec2(zero, -d);
-        let u = pin - pivot;
-        let slide = (u.x * u.x + u.y * u.y).sqrt();
-        let rocker_dir = u / slide;
-        let tip = pivot + rocker_dir * rocker;
-        let reach = (rod * rod - tip.y * tip.y).sqrt();
-        let output = vec2(tip.x + reach, zero);
+        let crank_dir = crank_dir(theta);
+        let (rocker_dir, slide) = rocker_frame(theta, crank, d);
+        let (rod_dir, tip, output) = rod_frame(theta, crank, d, rocker, rod);
         Pose {
             crank_dir,
-            pin,
+            pin: crank_dir * crank,
             slide,
             rocker_dir,
-            pivot,
+            pivot: vec2(S::from_f64(0.0), -d),
             tip,
-            rod_dir: (output - tip) / rod,
+            rod_dir,
             output,
         }
     }
@@ -130,10 +123,7 @@ impl<S: Scalar> Pose<S> {
     /// `v_T + rod ω₄ ê₄⊥ = (ẋ₅, 0)`, so `ω₄ = −v_Ty / (rod ê₄x)` and
     /// `ẋ₅ = v_Tx + ê₄y v_Ty / ê₄x` (ê₄x > 0 whenever the rod reaches the guide).
     pub fn output_closure(&self, rod: S) -> SMatrix<S, 2, 2> {
-        let e = self.rod_dir;
-        let zero = S::from_f64(0.0);
-        let one = S::from_f64(1.0);
-        SMatrix::<S, 2, 2>::new(zero, -one / (rod * e.x), one, e.y / e.x)
+        output_closure_of(self.rod_dir, rod)
     }
 }
 
@@ -153,6 +143,33 @@ pub const ROD: usize = 3;
 /// The output slider.
 pub const OUTPUT: usize = 4;
 
+/// The crank's unit vector at crank angle `theta`.
+fn crank_dir<S: Scalar>(theta: S) -> Vector2<S> {
+    vec2(theta.cos(), theta.sin())
+}
+
+/// The rocker's unit vector ê and the slider's distance s from O3.
+fn rocker_frame<S: Scalar>(theta: S, crank: S, d: S) -> (Vector2<S>, S) {
+    let u = crank_dir(theta) * crank + vec2(S::from_f64(0.0), d);
+    let slide = (u.x * u.x + u.y * u.y).sqrt();
+    (u / slide, slide)
+}
+
+/// The rod's unit vector ê₄, the rocker's tip T and the output slider's centre O5.
+fn rod_frame<S: Scalar>(
+    theta: S,
+    crank: S,
+    d: S,
+    rocker: S,
+    rod: S,
+) -> (Vector2<S>, Vector2<S>, Vector2<S>) {
+    let (e, _) = rocker_frame(theta, crank, d);
+    let tip = vec2(e.x * rocker, e.y * rocker - d);
+    let reach = (rod * rod - tip.y * tip.y).sqrt();
+    let output = vec2(tip.x + reach, S::from_f64(0.0));
+    ((output - tip) / rod, tip, output)
+}
+
 /// The centre of mass of link `link` ([`CRANK`] … [`OUTPUT`]) at crank angle `theta`.
 pub fn centre_of<S: Scalar>(
     link: usize,
@@ -162,53 +179,108 @@ pub fn centre_of<S: Scalar>(
     rocker: S,
     rod: S,
 ) -> Vector2<S> {
-    Pose::at(theta, crank, d, rocker, rod).centres()[link]
+    let half = S::from_f64(0.5);
+    match link {
+        CRANK => crank_dir(theta) * (crank * half),
+        SLIDER => crank_dir(theta) * crank,
+        ROCKER => {
+            let (e, _) = rocker_frame(theta, crank, d);
+            vec2(e.x * (rocker * half), e.y * (rocker * half) - d)
+        }
+        ROD => {
+            let (_, tip, output) = rod_frame(theta, crank, d, rocker, rod);
+            (tip + output) * half
+        }
+        _ => rod_frame(theta, crank, d, rocker, rod).2,
+    }
+}
+
+/// `Σ mᵢ yᵢ` over the links' centres of mass (the output slider's is on y = 0): the
+/// weight's potential energy over g.
+#[allow(clippy::too_many_arguments)]
+pub fn mass_moment_y<S: Scalar>(theta: S, crank: S, d: S, rocker: S, rod: S, masses: [S; 4]) -> S {
+    let half = S::from_f64(0.5);
+    let (e, _) = rocker_frame(theta, crank, d);
+    let (_, tip, _) = rod_frame(theta, crank, d, rocker, rod);
+    let pin_y = theta.sin() * crank;
+    masses[0] * pin_y * half
+        + masses[1] * pin_y
+        + masses[2] * (e.y * rocker * half - d)
+        + masses[3] * tip.y * half
 }
 
 /// The lever of the crank's point at signed distance `at` from its centre along the
 /// crank (O1 at −crank/2, the pin A at +crank/2).
 pub fn crank_lever<S: Scalar>(theta: S, at: S) -> Vector2<S> {
-    lever(vec2(theta.cos(), theta.sin()) * at)
+    lever(crank_dir(theta) * at)
 }
 
 /// The lever of the rocker's point at signed distance `at` from its centre along the
 /// rocker (O3 at −rocker/2, the tip at +rocker/2).
 pub fn rocker_lever<S: Scalar>(theta: S, crank: S, d: S, at: S) -> Vector2<S> {
-    let one = S::from_f64(1.0);
-    lever(Pose::at(theta, crank, d, one, one).rocker_dir * at)
+    lever(rocker_frame(theta, crank, d).0 * at)
 }
 
 /// The lever of the rod's point at signed distance `at` from its centre along the rod
 /// (its end at the rocker's tip at −rod/2).
 pub fn rod_lever<S: Scalar>(theta: S, crank: S, d: S, rocker: S, rod: S, at: S) -> Vector2<S> {
-    lever(Pose::at(theta, crank, d, rocker, rod).rod_dir * at)
+    lever(rod_frame(theta, crank, d, rocker, rod).0 * at)
 }
 
 /// [`Pose::slider_closure`] at crank angle `theta`.
 pub fn slider_closure<S: Scalar>(theta: S, crank: S, d: S) -> SMatrix<S, 2, 2> {
-    let one = S::from_f64(1.0);
-    Pose::at(theta, crank, d, one, one).slider_closure()
+    let (e, s) = rocker_frame(theta, crank, d);
+    SMatrix::<S, 2, 2>::new(-e.y / s, e.x / s, e.x, e.y)
 }
 
 /// [`Pose::output_closure`] at crank angle `theta`.
 pub fn output_closure<S: Scalar>(theta: S, crank: S, d: S, rocker: S, rod: S) -> SMatrix<S, 2, 2> {
-    Pose::at(theta, crank, d, rocker, rod).output_closure(rod)
+    let (e, _, _) = rod_frame(theta, crank, d, rocker, rod);
+    output_closure_of(e, rod)
 }
 
-/// The rocker's angle φ from X0 at crank angle `theta`.
-pub fn rocker_angle<S: Scalar>(theta: S, crank: S, d: S) -> S {
+/// The output closure for the rod's unit vector `e` (see [`Pose::output_closure`]).
+fn output_closure_of<S: Scalar>(e: Vector2<S>, rod: S) -> SMatrix<S, 2, 2> {
+    let zero = S::from_f64(0.0);
     let one = S::from_f64(1.0);
-    Pose::at(theta, crank, d, one, one).rocker_angle()
+    SMatrix::<S, 2, 2>::new(zero, -one / (rod * e.x), one, e.y / e.x)
 }
 
 /// The rod's angle ψ from X0 at crank angle `theta`.
 pub fn rod_angle<S: Scalar>(theta: S, crank: S, d: S, rocker: S, rod: S) -> S {
-    Pose::at(theta, crank, d, rocker, rod).rod_angle()
+    let (e, _, _) = rod_frame(theta, crank, d, rocker, rod);
+    e.y.atan2(e.x)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lean helpers the moduli call agree with the whole pose.
+    #[test]
+    fn helpers_agree_with_the_pose() {
+        for i in 0..12 {
+            let theta = -3.0 + 0.5 * f64::from(i);
+            let (crank, d, rocker, rod) = (0.2, 0.4, 0.7, 0.4);
+            let pose = Pose::at(theta, crank, d, rocker, rod);
+            let masses = [0.5, 0.1, 0.7, 0.3];
+            let mut moment = 0.0;
+            for (link, centre) in pose.centres().iter().enumerate() {
+                let lean = centre_of(link, theta, crank, d, rocker, rod);
+                assert!((lean - centre).norm() < 1e-15, "θ = {theta}, link {link}");
+                if link < 4 {
+                    moment += masses[link] * centre.y;
+                }
+            }
+            let lean = mass_moment_y(theta, crank, d, rocker, rod, masses);
+            assert!(
+                (lean - moment).abs() < 1e-15,
+                "θ = {theta}: {lean} vs {moment}"
+            );
+            assert!((rod_angle(theta, crank, d, rocker, rod) - pose.rod_angle()).abs() < 1e-15);
+            assert_eq!(slider_closure(theta, crank, d), pose.slider_closure());
+        }
+    }
 
     /// The closures are the inverses of the forward kinematics: the velocity they give
     /// back reproduces the point's velocity (to rounding), at several crank angles.
