@@ -33,10 +33,10 @@ mod expand;
 mod flatten;
 #[path = "../src/hoist.rs"]
 mod hoist;
-#[path = "../src/ir.rs"]
-mod ir;
 #[path = "../src/implicit.rs"]
 mod implicit;
+#[path = "../src/ir.rs"]
+mod ir;
 #[path = "../src/keywords.rs"]
 mod keywords;
 #[path = "../src/power.rs"]

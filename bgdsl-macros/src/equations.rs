@@ -4,7 +4,8 @@
 //! causality computes its bond's effort from its state, a 1-junction whose flow comes in
 //! on bond s computes s's effort as the signed sum of the others, ...). The assignments
 //! are then ordered so that each is computed after what it reads; a cycle is an
-//! algebraic loop and is reported with the elements on it.
+//! algebraic loop and is reported with the elements on it, unless the model allows it
+//! or it runs through dependent storage: then [`crate::implicit`] tears it.
 
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};

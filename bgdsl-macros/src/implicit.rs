@@ -475,3 +475,142 @@ pub fn finish_dependent(
     }
     errors.finish()
 }
+
+#[cfg(test)]
+mod should {
+    use crate::equations::Equations;
+
+    fn derive(text: &str) -> syn::Result<Equations> {
+        let file: crate::syntax::File = syn::parse_str(text).unwrap();
+        let graph = crate::resolve::resolve(file.models.into_iter().next().unwrap()).unwrap();
+        let causality = crate::causality::assign(&graph)
+            .map_err(|errors| crate::causality::render(&graph, &errors[0]))?;
+        crate::equations::derive(&graph, &causality)
+    }
+
+    const GEAR: &str = "#[allow(derivative_causality)] model G { Se s = 1.0; I a = 0.2; I b = 0.05;
+        1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }";
+
+    #[test]
+    fn tear_the_independent_momentum_rate_of_a_gear_and_call_it_linear() {
+        let eqs = derive(GEAR).unwrap();
+        assert_eq!(eqs.states.len(), 1);
+        assert_eq!(eqs.dependent.len(), 1);
+        assert_eq!(eqs.dependent[0].states, [0]);
+        assert_eq!(eqs.implicit.size(), 1);
+        // The torn signal is what ṗ_a integrates: the effort on a's bond (bond 1).
+        assert_eq!(
+            eqs.implicit.tears[0].signal,
+            crate::signals::Signal::Effort(crate::ir::BondId(1))
+        );
+        assert!(eqs.implicit.linear);
+        assert!(!eqs.implicit.groups[0].is_loop());
+    }
+
+    #[test]
+    fn take_the_allowance_from_a_bond_statement_or_an_element() {
+        let on_bond = derive(
+            "model G { Se s = 1.0; I a = 0.2; I b = 0.05; 1 w1; 1 w2; TF g = 3.0;
+             s -> w1 -> a; #[allow(derivative_causality)] w1 -> g -> w2 -> b; }",
+        )
+        .unwrap();
+        assert_eq!(on_bond.dependent.len(), 1);
+        let on_element = derive(
+            "model G { Se s = 1.0; I a = 0.2; #[allow(derivative_causality)] I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }",
+        )
+        .unwrap();
+        assert_eq!(on_element.dependent.len(), 1);
+        // On the other inertia, which keeps its state, it covers nothing.
+        let elsewhere = derive(
+            "model G { Se s = 1.0; #[allow(derivative_causality)] I a = 0.2; I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(elsewhere.contains("derivative causality"), "{elsewhere}");
+    }
+
+    #[test]
+    fn need_no_unknown_when_a_flow_source_drives_the_storage() {
+        let eqs = derive(
+            "#[allow(derivative_causality)] model M { Sf s = t; I m = 2.0; 1 v; s -> v -> m; }",
+        )
+        .unwrap();
+        assert_eq!((eqs.states.len(), eqs.dependent.len()), (0, 1));
+        assert_eq!(eqs.implicit.size(), 0);
+    }
+
+    #[test]
+    fn tear_a_resistor_output_and_classify_the_loop_by_its_laws() {
+        let linear = derive(
+            "#[allow(algebraic_loops)] model M { I m = 1.0; R a = 2.0; R b = 3.0; 1 v; 0 j;
+             v -> m; v -> j -> { a, b }; }",
+        )
+        .unwrap();
+        assert_eq!(linear.implicit.size(), 1);
+        assert!(linear.implicit.groups[0].is_loop());
+        assert!(linear.implicit.linear);
+        let quadratic = derive(
+            "#[allow(algebraic_loops)] model M { I m = 1.0; R a { e = 2.0 * f * f.abs() };
+             R b = 3.0; 1 v; 0 j; v -> m; v -> j -> { a, b }; }",
+        )
+        .unwrap();
+        assert_eq!(quadratic.implicit.size(), 1);
+        assert!(!quadratic.implicit.linear);
+    }
+
+    #[test]
+    fn refuse_an_allowance_nothing_uses() {
+        let message = derive(
+            "#[allow(algebraic_loops)] model M { Se s = 1.0; I m = 1.0; 1 v; s -> v -> m; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(
+            message.contains("is not needed") && message.contains("remove it"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn call_a_conflict_between_rigid_connections_a_redundant_constraint() {
+        let message = derive(
+            "#[allow(derivative_causality)] model M { Se s = 1.0; I a = 0.2; I b = 0.05;
+             1 w1; 1 w2; TF g = 3.0; TF h = 3.0; s -> w1 -> a; w1 -> g -> w2 -> b;
+             w1 -> h -> w2; }",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(
+            message.starts_with("redundant constraint at 1-junction `w2`"),
+            "{message}"
+        );
+        for name in ["TF `g`", "TF `h`", "I `a`"] {
+            assert!(message.contains(name), "{message}");
+        }
+    }
+
+    #[test]
+    fn say_that_dependent_storage_has_no_state_to_read() {
+        let text = GEAR.replace(
+            "w1 -> g -> w2 -> b;",
+            "w1 -> g -> w2 -> b; output pb = b.p;",
+        );
+        let message = derive(&text).err().unwrap().to_string();
+        assert!(
+            message.contains("has no state `p`") && message.contains("`b.f`"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn refuse_an_init_on_dependent_storage() {
+        let text = GEAR.replace("w1 -> g -> w2 -> b;", "w1 -> g -> w2 -> b; init b.p = 1.0;");
+        let message = derive(&text).err().unwrap().to_string();
+        assert!(message.contains("has no state"), "{message}");
+    }
+}

@@ -2,7 +2,8 @@
 //!
 //! A pipeline of plain functions over `proc_macro2` tokens, one module per stage:
 //! `syntax` (parse) → `flatten` (submodels) → `resolve` (names, structure, dimensions) → `causality` (SCAP) →
-//! `equations` (assignments in computation order) → `codegen` (Rust). Each stage
+//! `equations` (assignments in computation order; `implicit` tears what cannot be
+//! ordered) → `codegen` (Rust; `staged` for a model with unknowns). Each stage
 //! returns spanned `syn::Error`s, combined so that one compile reports every independent
 //! mistake; the macro never panics.
 //!
@@ -81,19 +82,21 @@ mod value_shape;
 ///
 /// ```text
 /// input     := (model | submodel)+
-/// model     := doc* vis? "model" Name "{" statement* "}"
+/// model     := (doc | allow)* vis? "model" Name "{" statement* "}"
 /// submodel  := doc* "submodel" Name "(" param_decl ("," param_decl)* ")" "{" statement* "}"
 /// param_decl:= name (":" type)? ("=" default)?
 /// statement := doc* "param" name (":" type)? "=" expr ("in" "\"unit\"")? ";"
 ///                                                          parameter, default, unit
-///            | doc* KIND ("[" n "]")? name law? state_unit? ";"
+///            | (doc | allow)* KIND ("[" n "]")? name law? state_unit? ";"
 ///                                                          element (n: bond dimension)
-///            | endpoint (arrow endpoint)+ ";"                bonds
+///            | allow* endpoint (arrow endpoint)+ ";"         bonds
 ///            | "init" element "." ("q" | "p") "=" expr ";"   initial state (default 0)
 ///            | doc* "state" name ":" type "=" expr unit? ";"  kinematic state, initial value
 ///            | "der" name "=" expr ";"                       its time derivative
 ///            | doc* "output" name (":" type)? "=" expr unit? ";"  named output
 ///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
+/// allow     := "#[allow(" lint ("," lint)* ")]"            opt-ins (see Dependent storage)
+/// lint      := "derivative_causality" | "algebraic_loops"  (on the model, Rust's lints too)
 /// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1" | "Split"
 /// name      := identifier | "r#" keyword                  `r#loop`, shown as `loop`
 /// type      := "f64" | "Vector3" | "Matrix3" | "[f64; N]" | "[[f64; C]; R]"
@@ -311,10 +314,54 @@ mod value_shape;
 /// then storage elements one at a time in integral causality, then resistors, each
 /// followed by propagation through junctions, TF and GY. A causal conflict, a storage
 /// element forced into derivative causality, an algebraic loop and a law in the wrong
-/// form are compile errors at the element concerned, with notes at the elements that
+/// form are compile errors at the element concerned (derivative causality and loops
+/// unless allowed: see below), with notes at the elements that
 /// caused them. A conflict names the junction where it happens, both parties and the
 /// path between them (gyrators included), and says whether two bonds both set the
 /// junction's common variable or none can.
+///
+/// ## Dependent storage and algebraic loops
+///
+/// Two things SCAP cannot complete are errors by default and allowed where the model
+/// says so, with Rust's lint vocabulary:
+///
+/// - `#[allow(derivative_causality)]`: a C or I whose integral causality conflicts takes
+///   derivative causality instead: *dependent storage*, for a rigid connection (two
+///   inertias through a gear, a slider driven through a rigid arm) or storage driven by
+///   a source. It has no state (`STATE_NAMES` leaves it out; `init` on it is an error);
+///   it receives its co-energy variable (an I its flow, a C its effort) and returns the
+///   time derivative of its energy variable E: p = m f for an I, q = k⁻¹ e for a C.
+///   Its law must be linear — a number, vector or matrix coefficient, which may depend
+///   on states, parameters and `t` (`MTF`-style modulation); an explicit law there is
+///   an error. E must be a function of the states and time only: reading another
+///   dependent element's output or an unknown of an algebraic loop is an error (a
+///   higher-index problem). A conflict that remains with derivative causality allowed
+///   is a *redundant constraint*, reported with the connections that over-determine
+///   the motion.
+/// - `#[allow(algebraic_loops)]`: equations that compute each other at the same instant
+///   (two dampers in series) are solved at every evaluation.
+///
+/// Written before `model` an allowance covers the whole model; before an element, that
+/// element; before a bond statement, the bonds it makes. Derivative causality is allowed
+/// for a storage element if the model, the element or one of its bonds allows it; a
+/// loop is allowed if the model or any element or bond on it does. An unknown lint name
+/// is an error naming the one meant; an allowance that nothing uses is an error ("remove
+/// it"), so a stale opt-in hides nothing. Without allowances the generated code is
+/// exactly what it was.
+///
+/// The generated code solves one vector z of K unknowns (K fixed at compile time): the
+/// state derivatives that dependent storage's d/dt E reads where they depend on it in
+/// turn (for a mechanism, its independent momenta's derivatives: the mass matrix in
+/// disguise), and one torn signal per algebraic loop. d/dt E is exact: E is evaluated on
+/// `Tangent` numbers carrying the state derivatives. Newton runs in `f64` with the exact
+/// Jacobian (one evaluation on `DualN<K>`) from the previous solution, one step when the
+/// compiler sees the system is linear in z; a final implicit-function step on the
+/// caller's scalar carries derivatives through the solve, so a stiff solver's Jacobian
+/// stays exact. A failed solve fills the derivatives with NaN and is reported by
+/// `Model::evaluation_error` (`UnsolvedLoop`, `SingularConstraint`) with the elements
+/// concerned. `DEPENDENT_STORAGE`, `ALGEBRAIC_LOOPS` and `GRAPH` (derivative causality,
+/// `loops`) describe what was allowed; the power account keeps dependent storage's
+/// energy.
 ///
 /// [`Scalar`]: https://docs.rs/bgdsl-runtime/latest/bgdsl_runtime/trait.Scalar.html
 #[proc_macro]

@@ -80,7 +80,17 @@ impl Env<'_> {
             return Leaf::Varying;
         }
         if word == "t" {
-            return Leaf::Timed;
+            // Dependent storage differentiates its energy variable along time too: an
+            // expression in `t` must carry that derivative, not be a per-call constant.
+            let differentiated = graph
+                .allowances
+                .iter()
+                .any(|a| a.lint == crate::ir::Lint::DerivativeCausality);
+            return if differentiated {
+                Leaf::Varying
+            } else {
+                Leaf::Timed
+            };
         }
         if let Some(param) = graph.params.iter().find(|p| p.name == *name) {
             return if param.input {
@@ -170,6 +180,20 @@ pub fn element_signal(
         _ => !graph.bond(bond(0)).points_into(element),
     };
     let term = match (el.kind, member) {
+        (ElementKind::C, "q") | (ElementKind::I, "p") if state_of[element.0].is_none() => {
+            let (variable, law, other) = if el.kind == ElementKind::I {
+                ("momentum", "p = m f", "f")
+            } else {
+                ("displacement", "q = e / k", "e")
+            };
+            return Err(format!(
+                "{} is dependent storage (derivative causality): it has no state `{member}`\n\
+                 help: its {variable} is its law applied to what it receives ({law}): write \
+                 it with `{}.{other}`",
+                graph.describe(element),
+                crate::flatten::display(&el.name.to_string()),
+            ));
+        }
         (ElementKind::C, "q") | (ElementKind::I, "p") => {
             state_of[element.0].map(|i| Term::plus(Signal::State(i)))
         }

@@ -77,7 +77,7 @@ pub fn dependent_rate(equations: &Equations, index: usize, span: Span) -> TokenS
     }
     let energy = energy_fn_ident(index);
     let n_states = entries.len();
-    let sign = (d.negate && equations_kind_is_c(d)).then(|| quote!(-));
+    let sign = (d.negate && is_compliance(d)).then(|| quote!(-));
     let eps = match d.shape {
         Shape::Scalar => quote!(#sign __energy.eps),
         _ => quote!(#sign __energy.map(|__c| __c.eps)),
@@ -92,7 +92,7 @@ pub fn dependent_rate(equations: &Equations, index: usize, span: Span) -> TokenS
     }}
 }
 
-fn equations_kind_is_c(d: &crate::implicit::Dependent) -> bool {
+fn is_compliance(d: &crate::implicit::Dependent) -> bool {
     matches!(d.receives, Signal::Effort(_))
 }
 
@@ -101,7 +101,7 @@ fn equations_kind_is_c(d: &crate::implicit::Dependent) -> bool {
 fn energy_value(d: &crate::implicit::Dependent) -> TokenStream {
     let span = Span::call_site();
     let modulus = &d.modulus;
-    if equations_kind_is_c(d) {
+    if is_compliance(d) {
         let e = term_tokens(Term::plus(d.receives), span);
         match d.shape {
             Shape::Scalar => quote!(#e / (#modulus)),

@@ -45,6 +45,16 @@
 //!   element sits directly in `crank`.
 //! - Names, labels and paths are escaped for DOT (`"` and `\`, line breaks as `\n`) and,
 //!   inside the junctions' HTML-like labels, for HTML.
+//! - **Derivative causality** (dependent storage, `#[allow(derivative_causality)]`):
+//!   the storage element's text is red (`fontcolor="red"`, its tooltip says
+//!   "derivative causality"), and so are its bonds (`color="red"`, `red:red` for a
+//!   multibond), causal stroke and all.
+//! - **Algebraic loops** (`#[allow(algebraic_loops)]`, [`CausalGraph::loops`]): each
+//!   member is outlined in orange (`shape=box, style="rounded,bold", color="orange"`,
+//!   its tooltip says so), and a bond between two members of one loop is orange and
+//!   bold (`color="orange", penwidth=2`; red wins on a bond that is both).
+//! - A **legend** node (`legend`, at the end of the nodes) explains the two markings,
+//!   each only when the graph has it; a graph with neither is drawn without.
 //! - The output is deterministic: elements in declaration order within their cluster,
 //!   clusters in the order their first element was declared, bonds in declaration order.
 
@@ -87,7 +97,12 @@ impl Display for Dot<'_> {
             "  edge [dir=both, arrowhead=lvee, arrowtail=none, fontsize=10];"
         )?;
         let tree = Tree::new(graph);
-        tree.write(f, graph.elements, 0, 1)?;
+        tree.write(f, graph, 0, 1)?;
+        let has_derivative = graph.elements.iter().any(is_dependent);
+        let has_loop = graph.loops.iter().any(|members| !members.is_empty());
+        if has_derivative || has_loop {
+            writeln!(f, "  legend {};", Legend(has_derivative, has_loop))?;
+        }
         for (index, bond) in graph.bonds.iter().enumerate() {
             let ends = graph.elements.len();
             if bond.from >= ends || bond.to >= ends {
@@ -116,8 +131,36 @@ impl Display for Dot<'_> {
                 bond.from, bond.to
             )?;
             let mut label = bond.label.map(str::to_owned);
+            let dependent =
+                is_dependent(&graph.elements[bond.from]) || is_dependent(&graph.elements[bond.to]);
+            let looped = graph
+                .loops
+                .iter()
+                .any(|members| members.contains(&bond.from) && members.contains(&bond.to));
+            let colour = if dependent {
+                "red"
+            } else if looped {
+                "orange"
+            } else {
+                "black"
+            };
+            if dependent {
+                f.write_str(", tooltip=\"derivative causality\"")?;
+            }
+            if colour != "black" {
+                if bond.dimension == 1 {
+                    write!(f, ", color=\"{colour}\"")?;
+                } else {
+                    write!(f, ", color=\"{colour}:{colour}\"")?;
+                }
+            }
+            if looped {
+                f.write_str(", penwidth=2")?;
+            }
             if bond.dimension != 1 {
-                f.write_str(", color=\"black:black\"")?;
+                if colour == "black" {
+                    f.write_str(", color=\"black:black\"")?;
+                }
                 let dimension = bond.dimension.to_string();
                 label = Some(match label {
                     Some(label) => format!("{label}\n{dimension}"),
@@ -226,14 +269,16 @@ impl<'g> Tree<'g> {
     fn write(
         &self,
         f: &mut fmt::Formatter<'_>,
-        elements: &[GraphElement],
+        graph: &CausalGraph,
         cluster: usize,
         depth: usize,
     ) -> fmt::Result {
         let cluster = &self.clusters[cluster];
         let indent = "  ".repeat(depth);
         for &index in &cluster.elements {
-            writeln!(f, "{indent}e{index} {};", NodeAttributes(&elements[index]))?;
+            let on_loop = graph.loops.iter().any(|members| members.contains(&index));
+            let node = NodeAttributes(&graph.elements[index], on_loop);
+            writeln!(f, "{indent}e{index} {node};")?;
         }
         for &child in &cluster.children {
             let nested = &self.clusters[child];
@@ -243,19 +288,49 @@ impl<'g> Tree<'g> {
                 "{indent}  graph [label={}, style=\"rounded,dashed\", fontsize=11];",
                 quoted(nested.path)
             )?;
-            self.write(f, elements, child, depth + 1)?;
+            self.write(f, graph, child, depth + 1)?;
             writeln!(f, "{indent}}}")?;
         }
         Ok(())
     }
 }
 
-/// `[label=..., tooltip=...]` for one element.
-struct NodeAttributes<'a>(&'a GraphElement);
+/// Whether `element` is a storage element in derivative causality.
+fn is_dependent(element: &GraphElement) -> bool {
+    element.causality == ElementCausality::Derivative
+}
+
+/// The legend node's label: one row per marking the graph has (derivative causality,
+/// algebraic loops).
+struct Legend(bool, bool);
+
+impl Display for Legend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("[shape=plaintext, fontsize=10, tooltip=\"legend\", label=<")?;
+        f.write_str("<TABLE BORDER=\"1\" CELLBORDER=\"0\" CELLSPACING=\"2\" COLOR=\"gray\">")?;
+        if self.0 {
+            f.write_str(
+                "<TR><TD><FONT COLOR=\"red\">red</FONT></TD>\
+                 <TD ALIGN=\"LEFT\">derivative causality (dependent storage)</TD></TR>",
+            )?;
+        }
+        if self.1 {
+            f.write_str(
+                "<TR><TD><FONT COLOR=\"orange\">orange</FONT></TD>\
+                 <TD ALIGN=\"LEFT\">algebraic loop (solved at each evaluation)</TD></TR>",
+            )?;
+        }
+        f.write_str("</TABLE>>]")
+    }
+}
+
+/// `[label=..., tooltip=...]` for one element, and whether it is on an algebraic loop.
+struct NodeAttributes<'a>(&'a GraphElement, bool);
 
 impl Display for NodeAttributes<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let element = self.0;
+        let on_loop = self.1;
         let keyword = element.keyword();
         match element.kind {
             ElementKind::Zero | ElementKind::One if element.name.is_empty() => {
@@ -284,10 +359,19 @@ impl Display for NodeAttributes<'_> {
             ElementCausality::Fixed => "",
             ElementCausality::Derivative => ", derivative causality (dependent storage)",
         };
+        if is_dependent(element) {
+            f.write_str(", fontcolor=\"red\"")?;
+        }
+        let loop_note = if on_loop {
+            f.write_str(", shape=box, style=\"rounded,bold\", color=\"orange\"")?;
+            ", on an algebraic loop solved at each evaluation"
+        } else {
+            ""
+        };
         write!(
             f,
             ", tooltip={}]",
-            quoted(&format!("{keyword} {path}{causality}"))
+            quoted(&format!("{keyword} {path}{causality}{loop_note}"))
         )
     }
 }

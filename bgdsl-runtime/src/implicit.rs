@@ -15,16 +15,23 @@
 //!    the implicit function theorem: for a dual `T` the tangents of `z_T` are exactly
 //!    `dz/dθ = −J⁻¹ ∂r/∂θ`, so the stiff solvers' Jacobians stay exact through the
 //!    solve; for `T = f64` it is one more (harmless) Newton step;
-//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`]), or, if the solve
-//!    failed, records the [`Failure`] ([`ImplicitMemory::record`]), fills the
-//!    derivatives with NaN, and lets the solver ask
-//!    [`Model::evaluation_error`](crate::Model::evaluation_error) why.
+//! 3. remembers `z*` for the next call ([`ImplicitMemory::remember`], which also
+//!    forgets any earlier failure), or, if the solve failed,
+//!    fills in the time, records the [`Failure`] ([`ImplicitMemory::record`]) and
+//!    writes `T::from_f64(f64::NAN)` into the derivatives (or outputs);
+//!    [`Model::evaluation_error`](crate::Model::evaluation_error) then returns
+//!    [`Failure::to_model_error`] with the elements concerned. A NaN value with zero
+//!    tangents is enough on dual numbers too: the
+//!    [`JacobianEvaluator`](crate::JacobianEvaluator) makes the row of a non-finite
+//!    value NaN, so the solvers see the failure there as well.
 //!
 //! Everything here is allocation-free and works without the standard library: the
 //! Jacobian is factored by a fixed-size LU decomposition with partial pivoting over
 //! `[[f64; K]; K]` on the stack.
 
-use core::sync::atomic::{AtomicU64, AtomicU8, AtomicUsize, Ordering};
+#[cfg(target_has_atomic = "64")]
+use core::sync::atomic::AtomicU64;
+use core::sync::atomic::{AtomicU32, AtomicU8, AtomicUsize, Ordering};
 
 use crate::dual::DualN;
 use crate::model::ModelError;
@@ -94,52 +101,67 @@ impl Failure {
 /// It is a field of the generated model, written through `&self` (evaluations take
 /// `&self`): the values are kept as `f64` bits in atomics with relaxed ordering, so a
 /// model stays `Sync` and `no_std`. That is enough: the guess only speeds a solve up,
-/// and a stale or torn one (two threads evaluating one model) still converges to the
-/// same solution. (The target needs 64-bit atomics.)
+/// and a stale one (two threads evaluating one model) still converges to the same
+/// solution.
+///
+/// Where the target has no 64-bit atomics (Cortex-M0 to M4), each number is kept as
+/// two 32-bit halves: a read racing a write may then see a torn value, which is only a
+/// worse guess (a non-finite one is replaced by zero).
 ///
 /// `Clone` copies the values; every memory equals every other (`PartialEq`), because it
 /// holds no part of the model's value, only a starting point, so two models with the
 /// same parameters compare equal whatever they last evaluated.
 pub struct ImplicitMemory<const K: usize> {
-    guess: [AtomicU64; K],
+    guess: [SharedF64; K],
     /// 0: no failure; otherwise 1 + the index of the `FailureKind`.
     failure_kind: AtomicU8,
     failure_unknown: AtomicUsize,
-    failure_t: AtomicU64,
-    failure_residual: AtomicU64,
+    failure_t: SharedF64,
+    failure_residual: SharedF64,
 }
 
 impl<const K: usize> ImplicitMemory<K> {
     /// A memory with the guess `z = 0` and no failure.
     pub const fn new() -> Self {
         ImplicitMemory {
-            guess: [const { AtomicU64::new(0) }; K],
+            guess: [const { SharedF64::new() }; K],
             failure_kind: AtomicU8::new(0),
             failure_unknown: AtomicUsize::new(0),
-            failure_t: AtomicU64::new(0),
-            failure_residual: AtomicU64::new(0),
+            failure_t: SharedF64::new(),
+            failure_residual: SharedF64::new(),
         }
     }
 
     /// The last solution remembered (zero at first): the guess of the next solve.
     pub fn guess(&self) -> [f64; K] {
-        core::array::from_fn(|j| f64::from_bits(self.guess[j].load(Ordering::Relaxed)))
+        core::array::from_fn(|j| {
+            // Only a value torn by a concurrent write (where 64-bit atomics are
+            // missing) could be non-finite: start from zero then.
+            let value = self.guess[j].get();
+            if value.is_finite() {
+                value
+            } else {
+                0.0
+            }
+        })
     }
 
-    /// Remembers `z` as the guess of the next solve.
+    /// Remembers `z`, a solution, as the guess of the next solve, and forgets any
+    /// recorded failure: [`ImplicitMemory::failure`] describes the last solve, so a
+    /// failure a solver met on a step it then shortened is not reported later.
     pub fn remember(&self, z: &[f64; K]) {
         for (cell, value) in self.guess.iter().zip(z) {
-            cell.store(value.to_bits(), Ordering::Relaxed);
+            cell.set(*value);
         }
+        self.clear_failure();
     }
 
     /// Records a failure, replacing any earlier one.
     pub fn record(&self, failure: Failure) {
         self.failure_unknown
             .store(failure.unknown, Ordering::Relaxed);
-        self.failure_t.store(failure.t.to_bits(), Ordering::Relaxed);
-        self.failure_residual
-            .store(failure.residual.to_bits(), Ordering::Relaxed);
+        self.failure_t.set(failure.t);
+        self.failure_residual.set(failure.residual);
         let kind = match failure.kind {
             FailureKind::NotConverged => 1,
             FailureKind::Singular => 2,
@@ -148,7 +170,8 @@ impl<const K: usize> ImplicitMemory<K> {
         self.failure_kind.store(kind, Ordering::Relaxed);
     }
 
-    /// The last failure recorded, until [`ImplicitMemory::clear_failure`].
+    /// The last failure recorded, until [`ImplicitMemory::clear_failure`] or the next
+    /// [`ImplicitMemory::remember`] (a solve that succeeded).
     pub fn failure(&self) -> Option<Failure> {
         let kind = match self.failure_kind.load(Ordering::Relaxed) {
             1 => FailureKind::NotConverged,
@@ -159,8 +182,8 @@ impl<const K: usize> ImplicitMemory<K> {
         Some(Failure {
             kind,
             unknown: self.failure_unknown.load(Ordering::Relaxed),
-            t: f64::from_bits(self.failure_t.load(Ordering::Relaxed)),
-            residual: f64::from_bits(self.failure_residual.load(Ordering::Relaxed)),
+            t: self.failure_t.get(),
+            residual: self.failure_residual.get(),
         })
     }
 
@@ -200,6 +223,55 @@ impl<const K: usize> core::fmt::Debug for ImplicitMemory<K> {
             .field("guess", &self.guess())
             .field("failure", &self.failure())
             .finish()
+    }
+}
+
+/// An `f64` shared through `&self`: its bits in a 64-bit atomic where the target has
+/// one, else in [`SplitF64`]'s two 32-bit halves.
+#[cfg(target_has_atomic = "64")]
+struct SharedF64(AtomicU64);
+
+#[cfg(target_has_atomic = "64")]
+impl SharedF64 {
+    const fn new() -> Self {
+        SharedF64(AtomicU64::new(0))
+    }
+    fn get(&self) -> f64 {
+        f64::from_bits(self.0.load(Ordering::Relaxed))
+    }
+    fn set(&self, value: f64) {
+        self.0.store(value.to_bits(), Ordering::Relaxed);
+    }
+}
+
+#[cfg(not(target_has_atomic = "64"))]
+type SharedF64 = SplitF64;
+
+/// An `f64` as two 32-bit atomic halves, for targets without 64-bit atomics (compiled
+/// everywhere, so that its test runs on the host).
+#[cfg_attr(target_has_atomic = "64", allow(dead_code))]
+struct SplitF64 {
+    high: AtomicU32,
+    low: AtomicU32,
+}
+
+#[cfg_attr(target_has_atomic = "64", allow(dead_code))]
+impl SplitF64 {
+    const fn new() -> Self {
+        SplitF64 {
+            high: AtomicU32::new(0),
+            low: AtomicU32::new(0),
+        }
+    }
+    fn get(&self) -> f64 {
+        let high = u64::from(self.high.load(Ordering::Relaxed));
+        let low = u64::from(self.low.load(Ordering::Relaxed));
+        f64::from_bits(high << 32 | low)
+    }
+    fn set(&self, value: f64) {
+        let bits = value.to_bits();
+        self.high.store((bits >> 32) as u32, Ordering::Relaxed);
+        self.low.store(bits as u32, Ordering::Relaxed);
     }
 }
 
@@ -430,4 +502,26 @@ pub fn solve<const K: usize>(
         });
     }
     Err(failure(FailureKind::NotConverged, j, at.r[j]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_halves_keep_every_bit() {
+        let cell = SplitF64::new();
+        assert_eq!(cell.get().to_bits(), 0);
+        for value in [1.5, -2.25e-300, f64::MAX, -0.0, f64::NAN, f64::MIN_POSITIVE] {
+            cell.set(value);
+            assert_eq!(cell.get().to_bits(), value.to_bits());
+        }
+    }
+
+    #[test]
+    fn a_non_finite_guess_reads_as_zero() {
+        let memory = ImplicitMemory::<2>::new();
+        memory.remember(&[f64::NAN, 3.0]);
+        assert_eq!(memory.guess(), [0.0, 3.0]);
+    }
 }

@@ -28,7 +28,7 @@
 //! whatever the tangents say: a model whose evaluation failed (an implicit solve that
 //! did not converge writes NaN values with zero tangents) gives a Jacobian a solver
 //! sees is not finite, and then asks the model why
-//! ([`Model::evaluation_error`](crate::Model::evaluation_error)).
+//! ([`Model::evaluation_error`]).
 //!
 //! ```
 //! use bgdsl_runtime::{JacobianEvaluator, Model, Scalar};

@@ -146,7 +146,7 @@ pub trait Model {
     /// residual. The solvers ask this when they meet a non-finite derivative and end
     /// the run with [`SolverError::InvalidModel`](crate::SolverError::InvalidModel)
     /// carrying it, rather than a step-size underflow; an FMU returns `fmi2Error` with
-    /// its text. A generated model clears the failure when a later solve succeeds. The
+    /// its text. A later evaluation whose solve succeeds forgets the failure. The
     /// default (a model whose evaluations cannot fail this way) is `None`.
     fn evaluation_error(&self) -> Option<ModelError> {
         None

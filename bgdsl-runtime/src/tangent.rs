@@ -19,7 +19,7 @@
 //! Exactly those of [`Dual`](crate::dual#conventions), applied to the parts in `S`:
 //! comparison is by the value `re` (as `S` compares it, i.e. by the innermost value); a
 //! tangent that is exactly zero (every part of `eps` zero, as
-//! [`Zero::is_zero`](num_traits::Zero::is_zero) says) stays zero where the slope of an
+//! [`Zero::is_zero`] says) stays zero where the slope of an
 //! elementary function is infinite or undefined (`sqrt`, `cbrt` and `ln` at 0, `asin`
 //! and `acos` at ±1, a negative `powi` at 0, `powf` at a zero base, `atan2` at the
 //! origin); kinks take the midpoint of the one-sided slopes (`abs` at 0, `min`/`max` of

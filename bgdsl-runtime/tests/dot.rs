@@ -39,7 +39,7 @@ const fn bond(
     }
 }
 
-use ElementCausality::{Conductance, Fixed, Integral, Resistance};
+use ElementCausality::{Conductance, Derivative, Fixed, Integral, Resistance};
 use ElementKind::{One, Se, Tf, Zero, C, I, R};
 
 /// A crank driven through a lever: a top-level source and junction, a submodel
@@ -70,6 +70,35 @@ const CRANK: CausalGraph = CausalGraph {
         bond(7, 8, 8, 1, Some(r"a\b")),      // stroke at the head, label to escape
     ],
     loops: &[],
+};
+
+/// Two shafts through a rigid gear (`shaft2` in derivative causality) and two dampers
+/// in series (an algebraic loop through `d1`, `j` and `d2`); bond 6 is a multibond on
+/// the loop.
+const RIGID: CausalGraph = CausalGraph {
+    model: "Rigid",
+    elements: &[
+        element("motor", "", Se, Fixed),      // 0
+        element("w1", "", One, Fixed),        // 1
+        element("shaft1", "", I, Integral),   // 2
+        element("gear", "", Tf, Fixed),       // 3
+        element("w2", "", One, Fixed),        // 4
+        element("shaft2", "", I, Derivative), // 5
+        element("d1", "", R, Resistance),     // 6
+        element("j", "", Zero, Fixed),        // 7
+        element("d2", "", R, Conductance),    // 8
+    ],
+    bonds: &[
+        bond(0, 1, 1, 1, None),      // 0
+        bond(1, 2, 2, 1, None),      // 1
+        bond(1, 3, 3, 1, None),      // 2
+        bond(3, 4, 3, 1, None),      // 3
+        bond(4, 5, 4, 1, Some("p")), // 4: into the dependent inertia
+        bond(1, 6, 6, 1, None),      // 5: w1 is not on the loop
+        bond(6, 7, 7, 2, None),      // 6: a multibond on the loop
+        bond(7, 8, 7, 1, None),      // 7: on the loop
+    ],
+    loops: &[&[6, 7, 8]],
 };
 
 /// The line that draws the edge `e<from> -> e<to>`, exactly one.
@@ -470,6 +499,117 @@ mod should {
             "{dot}"
         );
         assert!(!dot.contains("e7"), "{dot}");
+    }
+
+    /// A storage element in derivative causality is red, with its bonds; the tooltip
+    /// says what it is.
+    #[test]
+    fn draw_derivative_causality_in_red() {
+        let dot = RIGID.to_dot();
+        assert_eq!(
+            node_line(&dot, 5),
+            r#"e5 [label="I : shaft2", fontcolor="red", tooltip="I shaft2, derivative causality (dependent storage)"];"#
+        );
+        assert_eq!(
+            edge_line(&dot, 4, 5),
+            r#"e4 -> e5 [arrowhead="lvee", arrowtail="tee", tooltip="derivative causality", color="red", label="p"];"#
+        );
+        // The independent inertia and its bond are drawn as always.
+        assert_eq!(
+            node_line(&dot, 2),
+            r#"e2 [label="I : shaft1", tooltip="I shaft1, integral causality"];"#
+        );
+        assert!(!edge_line(&dot, 1, 2).contains("color"), "{dot}");
+        assert_eq!(
+            dot.matches("red").count(),
+            3 + 1,
+            "the node, the bond, the legend:\n{dot}"
+        );
+    }
+
+    /// The members of a loop are outlined in orange; a bond between two members is
+    /// orange and bold (a double orange line for a multibond), one to a non-member is
+    /// not.
+    #[test]
+    fn outline_the_members_of_a_loop_in_orange() {
+        let dot = RIGID.to_dot();
+        let outline = r#"shape=box, style="rounded,bold", color="orange""#;
+        for index in [6, 7, 8] {
+            let line = node_line(&dot, index);
+            assert!(line.contains(outline), "{line}");
+            assert!(
+                line.ends_with(r#", on an algebraic loop solved at each evaluation"];"#),
+                "{line}"
+            );
+        }
+        for index in [0, 1, 2, 3, 4, 5] {
+            assert!(!node_line(&dot, index).contains("orange"), "{dot}");
+        }
+        assert_eq!(
+            edge_line(&dot, 7, 8),
+            r#"e7 -> e8 [arrowhead="lvee", arrowtail="tee", color="orange", penwidth=2];"#
+        );
+        assert_eq!(
+            edge_line(&dot, 6, 7),
+            r#"e6 -> e7 [arrowhead="teelvee", arrowtail="none", color="orange:orange", penwidth=2, label="2"];"#
+        );
+        assert_eq!(
+            edge_line(&dot, 1, 6),
+            r#"e1 -> e6 [arrowhead="teelvee", arrowtail="none"];"#
+        );
+    }
+
+    /// The legend explains what the graph marks, and only that.
+    #[test]
+    fn show_a_legend_only_for_what_is_marked() {
+        let legend = |dot: &str| {
+            dot.lines()
+                .map(str::trim)
+                .filter(|l| l.starts_with("legend ["))
+                .map(str::to_owned)
+                .collect::<Vec<_>>()
+        };
+        let both = legend(&RIGID.to_dot());
+        assert_eq!(both.len(), 1, "{both:?}");
+        assert!(both[0].contains("derivative causality (dependent storage)"));
+        assert!(both[0].contains("algebraic loop (solved at each evaluation)"));
+        let mut elements = RIGID.elements.to_vec();
+        elements[5].causality = Integral;
+        let loops_only = CausalGraph {
+            elements: Box::leak(elements.into_boxed_slice()),
+            ..RIGID
+        };
+        assert!(!loops_only.to_dot().contains("red"));
+        let only = legend(&loops_only.to_dot());
+        assert!(!only[0].contains("derivative"), "{only:?}");
+        let derivative_only = CausalGraph {
+            loops: &[],
+            ..RIGID
+        };
+        let only = legend(&derivative_only.to_dot());
+        assert!(!only[0].contains("loop"), "{only:?}");
+        assert!(legend(&CRANK.to_dot()).is_empty());
+        // An empty loop list entry marks nothing.
+        let empty = CausalGraph {
+            loops: &[&[]],
+            ..CRANK
+        };
+        assert_eq!(empty.to_dot(), CRANK.to_dot());
+    }
+
+    /// The markings parse in Graphviz without a warning, the legend as one more node.
+    #[test]
+    fn have_markings_graphviz_accepts() {
+        if !graphviz_available("dot::should::have_markings_graphviz_accepts") {
+            return;
+        }
+        let svg = render_svg(&RIGID.to_dot());
+        assert_eq!(
+            svg.matches("class=\"node\"").count(),
+            RIGID.elements.len() + 1
+        );
+        assert_eq!(svg.matches("class=\"edge\"").count(), RIGID.bonds.len());
+        assert!(svg.contains("stroke=\"red\"") && svg.contains("stroke=\"orange\""));
     }
 
     /// Graphviz parses the output without a warning (an unknown arrow name would

@@ -328,6 +328,9 @@ fn the_memory_keeps_the_guess_and_the_last_failure() {
     memory.clear_failure();
     assert_eq!(memory.failure(), None);
     assert_eq!(copy.failure(), Some(failure), "the clone is its own");
+    // A solve that succeeds (remembered) forgets the failure of an earlier one.
+    copy.remember(&[0.5, 0.5]);
+    assert_eq!(copy.failure(), None);
     // Equal whatever they hold: a memory is no part of a model's value.
     assert!(copy == memory);
 }

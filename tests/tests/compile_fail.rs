@@ -27,6 +27,9 @@ fn ui() {
     cases.compile_fail("ui/submodel/*.rs");
     // Splitters: ports, components and the causality a whole-vector element allows.
     cases.compile_fail("ui/splitter/*.rs");
+    // The opt-ins for dependent storage and algebraic loops: the help lines without
+    // them, allowances nothing uses, what dependent storage cannot have.
+    cases.compile_fail("ui/implicit/*.rs");
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }

@@ -657,6 +657,55 @@ impl Scap<'_> {
     }
 }
 
+/// Where derivative causality is allowed, a conflict that remains is a redundant
+/// constraint: two rigid connections fixing one junction's variable. The message names
+/// the elements on both routes.
+fn redundant_constraint(
+    graph: &Graph,
+    second: ElementId,
+    first: ElementId,
+    meeting: Option<ElementId>,
+    routes: &[Vec<ElementId>; 2],
+) -> Option<String> {
+    let mut involved: Vec<ElementId> = routes.iter().flatten().copied().collect();
+    involved.extend([first, second]);
+    involved.sort();
+    involved.dedup();
+    graph.allowance(crate::ir::Lint::DerivativeCausality, &involved, &[])?;
+    let junction = meeting
+        .filter(|&j| matches!(graph.element(j).kind, ElementKind::Zero | ElementKind::One))?;
+    let common = if graph.element(junction).kind == ElementKind::Zero {
+        "effort"
+    } else {
+        "flow"
+    };
+    let named: Vec<String> = involved
+        .iter()
+        .filter(|&&id| !matches!(graph.element(id).kind, ElementKind::Zero | ElementKind::One))
+        .map(|&id| graph.describe(id))
+        .collect();
+    let connections: Vec<String> = involved
+        .iter()
+        .filter(|&&id| matches!(graph.element(id).kind, ElementKind::Tf | ElementKind::Gy))
+        .map(|&id| graph.describe(id))
+        .collect();
+    let which = if connections.is_empty() {
+        String::new()
+    } else {
+        format!(" (here: {})", connections.join(" or "))
+    };
+    Some(format!(
+        "redundant constraint at {}: {} fix its {common} twice (routes: {} and {}); even with \
+         derivative causality allowed, the rigid connections here over-determine the motion\n\
+         help: remove one of the connections{which}, or make one compliant: a 0-junction with \
+         a stiff `C joint = k;` (k a stiffness, {STIFFNESS}) and an R for damping",
+        graph.describe(junction),
+        named.join(", "),
+        route(graph, &routes[0]),
+        route(graph, &routes[1]),
+    ))
+}
+
 /// When `first` sits on one component of a split multibond and the conflict meets on
 /// another, the whole-vector elements the split junctions meet (which alone carry an
 /// influence across components), named for the message.
@@ -920,6 +969,11 @@ fn render_conflict(
         ElementKind::Sf => "flow",
         _ => "causality",
     };
+    if first == second || twice == Some(true) {
+        if let Some(message) = redundant_constraint(graph, second, first, meeting, routes) {
+            return syn::Error::new(span(second), message);
+        }
+    }
     if first == second {
         // The requirement clashed with its own consequences, met by two routes.
         let split =

@@ -69,7 +69,6 @@ impl DiodeLoop {
         }) {
             Ok(solution) => {
                 self.memory.remember(&solution.z);
-                self.memory.clear_failure();
                 let refined =
                     solution.refine(&[Self::residual(source, q, T::from_f64(solution.z[0]))]);
                 let v = refined[0];
