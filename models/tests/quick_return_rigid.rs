@@ -291,3 +291,25 @@ fn catalogue_run_prints_what_the_run_measured() {
         assert!((ratio - 2.0).abs() < 1e-3, "{ratio}");
     }
 }
+
+/// README.md's section "Rigid joints and algebraic loops" shows the rigid links'
+/// submodel word for word: the text between the markers in the model file, unindented
+/// by one level, is a block of the README.
+#[test]
+fn readme_shows_the_model_as_written() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = std::fs::read_to_string(root.join("src/quick_return_rigid/model.rs")).unwrap();
+    let readme = std::fs::read_to_string(root.join("../README.md")).unwrap();
+    let start = model.find("// README: rigid_links\n").expect("the start marker");
+    let end = model.find("    // README_END: rigid_links").expect("the end marker");
+    let excerpt: Vec<&str> = model[start..end]
+        .lines()
+        .skip(1)
+        .map(|l| l.strip_prefix("    ").unwrap_or(l))
+        .collect();
+    let block = format!("```text\n{}\n```", excerpt.join("\n").trim_end());
+    assert!(
+        readme.contains(&block),
+        "README.md no longer shows the model as written; the block should read:\n{block}"
+    );
+}

@@ -72,9 +72,6 @@ use super::pose::{
     rocker_lever, rod_angle, rod_lever, rotation, slider_closure, vec2, OUTPUT, ROCKER,
 };
 
-// The model text between the markers below is shown in README.md (as a doctest that
-// reads this file), so keep it self-explaining.
-// ANCHOR: rigid_quick_return
 bond_graph! {
     /// A link moving in the plane: its mass (a 2-D translation) and its inertia about
     /// Z0, its weight along −Y0. Ports: `v` (the centre of mass's velocity) and `w`
@@ -107,6 +104,9 @@ bond_graph! {
     /// The five links and their rigid joints (see the [module documentation](self)):
     /// the crank's angular velocity `crank.w` is the port a drive turns, `theta` the
     /// crank angle.
+    // README.md shows this submodel from here to its end marker, word for word (a
+    // test in models/tests/quick_return_rigid.rs compares them).
+    // README: rigid_links
     submodel RigidLinks(m1, m2, m3, m4, m5, l1, l2, l3, l4, l5, d, g, theta0, R3C, R5C) {
         /// crank angle θ from X0: the mechanism's configuration
         state theta: f64 = theta0 in "rad";
@@ -161,6 +161,8 @@ bond_graph! {
         output_x -> friction_5C;
         output_x -> guide -> output_v;
     }
+
+    // README_END: rigid_links
 
     /// The quick return mechanism with rigid joints, the crank driven at `w_drive`
     /// by a flow source: crank (1), slider (2) on the rocker (3), connecting rod (4),
@@ -359,4 +361,3 @@ bond_graph! {
             + coupling_damper.e * coupling_damper.f in "W";
     }
 }
-// ANCHOR_END: rigid_quick_return
