@@ -33,11 +33,15 @@
 //!   equation is solved at run time.
 //! - **Where the loop's force goes.** A closure transformer carries the joint's force
 //!   to the links as generalised forces (the rocker's moment about O3, the slide's
-//!   force; the rod's moment about its pin at the tip, the output slider's push): the
-//!   dynamics are exact, and so are the forces at every bond. Only the rocker's pivot
-//!   bond carries, besides the pivot's force, the slider's force on the rocker, which
-//!   reaches the rocker through the closure instead of at the slider: the output
-//!   `F_O3` takes it off (`-pivot_O3.e - closure_3.e`). The guide's normal force on the
+//!   force; the rod's moment about its pin at the tip, the output slider's push), so
+//!   the dynamics are exact. The closure's own bond carries the joint's force
+//!   (`closure_3.e`: the slider's on the rocker; `closure_5.e`: the rod's on the output
+//!   slider, `F_O5`), and so do the bonds of the links outside the loops (`pin_A`,
+//!   the pivot O1, the drive). The bond that holds the link a loop closes on carries
+//!   that force too, since it reaches the link through the closure instead of at the
+//!   joint: the rocker's pivot bond (the output `F_O3` takes it off,
+//!   `-pivot_O3.e - closure_3.e`) and the rod's pin at the tip (its force on the rod
+//!   is `pin_34.e + closure_5.e`, the output `F_34`). The guide's normal force on the
 //!   output slider is likewise the part of the rod's force the guide's projection does
 //!   not pass on: `F_5C_y = m5 g − F_O5_y`.
 //!
@@ -237,6 +241,11 @@ bond_graph! {
         output p5: Vector3 = in_plane_scaled(m5, links.output_v.f) in "kg·m/s";
         /// Force of the connecting rod on the output slider at O5
         output F_O5: Vector3 = in_plane(links.closure_5.e) in "N";
+        /// Force of the rocker on the slider: the normal force and the slide's friction
+        output F_3C: Vector3 = in_plane(-links.closure_3.e) in "N";
+        /// Force of the rocker on the connecting rod at the tip (the pin's bond less the
+        /// output slider's force, which reaches the rod through the loop's closure)
+        output F_34: Vector3 = in_plane(links.pin_34.e + links.closure_5.e) in "N";
         /// Force of the guide on the output slider: friction along X0, normal support
         output F_5C: Vector3 = in_plane(vec2(-links.friction_5C.e, m5 * g - links.closure_5.e.y)) in "N";
         /// Stored energy: kinetic and potential
@@ -339,6 +348,11 @@ bond_graph! {
         output p5: Vector3 = in_plane_scaled(m5, links.output_v.f) in "kg·m/s";
         /// Force of the connecting rod on the output slider at O5
         output F_O5: Vector3 = in_plane(links.closure_5.e) in "N";
+        /// Force of the rocker on the slider: the normal force and the slide's friction
+        output F_3C: Vector3 = in_plane(-links.closure_3.e) in "N";
+        /// Force of the rocker on the connecting rod at the tip (the pin's bond less the
+        /// output slider's force, which reaches the rod through the loop's closure)
+        output F_34: Vector3 = in_plane(links.pin_34.e + links.closure_5.e) in "N";
         /// Force of the guide on the output slider: friction along X0, normal support
         output F_5C: Vector3 = in_plane(vec2(-links.friction_5C.e, m5 * g - links.closure_5.e.y)) in "N";
         /// Stored energy: kinetic, elastic and potential
