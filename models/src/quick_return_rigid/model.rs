@@ -192,7 +192,8 @@ bond_graph! {
         param l3: [f64; 3] = [0.7, 0.01, 0.01] in "m";
         /// connecting-rod edge lengths: lx from the rocker's tip to O5 (Table 1)
         param l4: [f64; 3] = [0.4, 0.01, 0.01] in "m";
-        /// output-slider edge lengths (Table 1)
+        /// output-slider edge lengths (Table 1; it slides without turning, so only its
+        /// mass enters)
         param l5: [f64; 3] = [0.01, 0.01, 0.01] in "m";
         /// distance from the crank pivot O1 down to the rocker pivot O3
         param d = 0.4 in "m";
@@ -289,7 +290,8 @@ bond_graph! {
         param l3: [f64; 3] = [0.7, 0.01, 0.01] in "m";
         /// connecting-rod edge lengths: lx from the rocker's tip to O5 (Table 1)
         param l4: [f64; 3] = [0.4, 0.01, 0.01] in "m";
-        /// output-slider edge lengths (Table 1)
+        /// output-slider edge lengths (Table 1; it slides without turning, so only its
+        /// mass enters)
         param l5: [f64; 3] = [0.01, 0.01, 0.01] in "m";
         /// distance from the crank pivot O1 down to the rocker pivot O3
         param d = 0.4 in "m";
