@@ -353,6 +353,10 @@ fn collect_derived(equations: &Equations) -> crate::derived::Derived {
         Derivative::Term(_) => None,
     });
     let outputs = equations.outputs.iter().map(|o| o.expr.to_token_stream());
+    let dependent = equations
+        .dependent
+        .iter()
+        .map(|d| d.modulus.to_token_stream());
     // A given inverse and its modulus are evaluated again by `Model::check`.
     let inverses = equations.inverses.iter().flat_map(|check| {
         [
@@ -360,7 +364,12 @@ fn collect_derived(equations: &Equations) -> crate::derived::Derived {
             check.inverse.to_token_stream(),
         ]
     });
-    crate::derived::Derived::collect(laws.chain(ders).chain(outputs).chain(inverses))
+    crate::derived::Derived::collect(
+        laws.chain(ders)
+            .chain(outputs)
+            .chain(dependent)
+            .chain(inverses),
+    )
 }
 
 /// What the macro emits for a model with mistakes: its items with the right names

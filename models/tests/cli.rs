@@ -32,6 +32,8 @@ fn list_names_every_model_on_one_line() {
         names,
         [
             "quick_return",
+            "quick_return_rigid",
+            "quick_return_rigid_coupled",
             "oscillator",
             "rlc",
             "dc_motor",
@@ -84,8 +86,8 @@ fn params_shows_defaults_units_and_docs() {
     assert_eq!(unknown.code, Some(2));
     assert_eq!(
         unknown.stderr.trim(),
-        "error: unknown model `crank`; the models are: quick_return, oscillator, rlc, \
-         dc_motor, quarter_car, duffing, dc_servo"
+        "error: unknown model `crank`; the models are: quick_return, quick_return_rigid, \
+         quick_return_rigid_coupled, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
     );
 }
 

@@ -11,7 +11,7 @@ use super::{Entry, Plots, RunError, SweepPlan};
 use crate::plot::{draw_line_chart, ImageFormat, LineChart, PlotError, Series};
 use crate::quick_return::figures::{draw_figures, DrawnFigure, FigureOptions, FIGURE_IDS};
 use crate::quick_return::results::Results;
-use crate::quick_return::QuickReturnParams;
+use crate::quick_return_rigid::Mechanism;
 use crate::report::write_index;
 
 /// The ids of the quick return's figures (`fig03` … `fig21`).
@@ -55,7 +55,7 @@ fn stop_if_interrupted() -> Result<(), RunError> {
 /// The paper's figures (and the extras) from a quick return run.
 pub(super) fn quick_return(
     results: &Results,
-    params: &QuickReturnParams,
+    params: &dyn Mechanism,
     dir: &Path,
     plots: &Plots,
 ) -> Result<Vec<DrawnFigure>, RunError> {

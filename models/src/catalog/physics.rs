@@ -6,6 +6,9 @@ use bgdsl_runtime::multibond::box_inertia;
 use super::Checks;
 use crate::dc_servo::DcServo;
 use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
+use crate::quick_return_rigid::{
+    try_quick_return_cycle, DrivenMechanism, Mechanism, QuickReturnRigid, QuickReturnRigidCoupled,
+};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 /// A model of the catalogue: made from its parameter struct, with physical checks of
@@ -16,11 +19,21 @@ pub trait Catalogued: bgdsl_runtime::WithInputs + Default + Sync + Sized + 'stat
     /// Records in `checks` every physically meaningless value of `params`: a mass of
     /// zero, a negative stiffness, a link that cannot be assembled.
     fn check_params(params: &Self::Params, checks: &mut Checks);
+    /// The rigid mechanism a quick return model's parameters describe (for its
+    /// results' figures and summary); `None` for the other models.
+    fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
+        let _ = params;
+        None
+    }
 }
 
 impl Catalogued for QuickReturn {
     fn from_params(params: QuickReturnParams) -> Self {
         QuickReturn::new(params)
+    }
+
+    fn mechanism(params: &QuickReturnParams) -> Option<DrivenMechanism> {
+        Some(DrivenMechanism::of(params))
     }
 
     /// Masses positive; edge lengths not negative, and the length (the x edge) of the
@@ -124,6 +137,77 @@ impl Catalogued for QuickReturn {
                 checks.problem(&["l4", "l3", "d", "theta0", "l1"], message);
             }
         }
+    }
+}
+
+/// The links of a rigid quick return: masses positive; edge lengths not negative, the
+/// crank, rocker and rod lengths positive, at most one edge 0; `d` positive; and the
+/// mechanism has its quick-return cycle (a crank shorter than `d`, a rod that reaches
+/// the guide at every crank angle: else a closure transformer is singular somewhere
+/// in the turn).
+fn rigid_link_checks(p: &dyn Mechanism, checks: &mut Checks) {
+    let rigid = p.rigid_params();
+    let links = [
+        ("crank", "m1", rigid.m1, "l1", rigid.l1),
+        ("slider", "m2", rigid.m2, "l2", rigid.l2),
+        ("rocker", "m3", rigid.m3, "l3", rigid.l3),
+        ("connecting rod", "m4", rigid.m4, "l4", rigid.l4),
+        ("output slider", "m5", rigid.m5, "l5", rigid.l5),
+    ];
+    let before = checks.count();
+    for (link, m_name, m, l_name, l) in links {
+        checks.positive(m_name, m);
+        checks.non_negative_each(l_name, &l);
+        let edges_zero = l.iter().filter(|&&e| e == 0.0).count();
+        if edges_zero > 1 {
+            let message = format!(
+                "the {link}'s inertia about Z0 needs a box: at most one edge of {l_name} may be \
+                 0 m, found [{}, {}, {}]",
+                l[0], l[1], l[2]
+            );
+            checks.problem(&[l_name], message);
+        }
+    }
+    checks.positive("d", rigid.d);
+    checks.non_negative("R3C", rigid.R3C);
+    checks.non_negative("R5C", rigid.R5C);
+    if checks.count() == before {
+        if let Err(why) = try_quick_return_cycle(&rigid) {
+            checks.problem(
+                &["l1", "l3", "l4", "d"],
+                format!("the rigid mechanism cannot turn: {why}"),
+            );
+        }
+    }
+}
+
+impl Catalogued for QuickReturnRigid {
+    fn from_params(params: Self::Params) -> Self {
+        QuickReturnRigid::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        rigid_link_checks(p, checks);
+    }
+
+    fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
+        Some(DrivenMechanism::of(params))
+    }
+}
+
+impl Catalogued for QuickReturnRigidCoupled {
+    fn from_params(params: Self::Params) -> Self {
+        QuickReturnRigidCoupled::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        rigid_link_checks(p, checks);
+        checks.non_negative("K_C", p.K_C);
+        checks.non_negative("R_C", p.R_C);
+    }
+
+    fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
+        Some(DrivenMechanism::of(params))
     }
 }
 

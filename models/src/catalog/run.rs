@@ -23,7 +23,7 @@ use crate::quick_return::figures::DrawnFigure;
 use crate::quick_return::results::{Results, COLUMNS, FILE_NAME};
 use crate::quick_return::run::{Error as QuickReturnError, Recorded};
 use crate::quick_return::summary::{SolverSettings, Summary};
-use crate::quick_return::QuickReturnParams;
+use crate::quick_return_rigid::DrivenMechanism;
 use crate::report::INDEX_FILE;
 
 /// Which figures a run draws.
@@ -209,6 +209,17 @@ impl From<CsvError> for RunError {
 pub(super) fn params_from<P: DeserializeOwned>(params: &Mapping) -> Result<P, RunError> {
     serde_yaml::from_value(Value::Mapping(params.clone()))
         .map_err(|e| RunError::Params(e.to_string()))
+}
+
+/// The rigid mechanism a quick return model's parameters describe, for its figures and
+/// summary.
+fn mechanism<M: Catalogued>(params: &M::Params) -> Result<DrivenMechanism, RunError> {
+    M::mechanism(params).ok_or_else(|| {
+        RunError::Params(format!(
+            "{} writes the quick return's results but describes no rigid mechanism",
+            M::NAME
+        ))
+    })
 }
 
 /// The model's initial state with the plan's replacements.
@@ -397,8 +408,9 @@ where
     } else {
         match (&plan.plots, &results, &table) {
             (Plots::None, _, _) => Ok(Vec::new()),
-            (plots, Some(results), _) => params_from::<QuickReturnParams>(&plan.params)
-                .and_then(|params| figures::quick_return(results, &params, dir, plots)),
+            (plots, Some(results), _) => params_from::<M::Params>(&plan.params)
+                .and_then(|params| mechanism::<M>(&params))
+                .and_then(|mechanism| figures::quick_return(results, &mechanism, dir, plots)),
             (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
             (_, None, None) => Ok(Vec::new()),
         }
@@ -425,8 +437,10 @@ where
                 _ => (0.0, 0.0),
             };
             let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
-            if let Ok(params) = params_from::<QuickReturnParams>(&plan.params) {
-                summary = summary.with_params(&params);
+            if let Ok(mechanism) =
+                params_from::<M::Params>(&plan.params).and_then(|p| mechanism::<M>(&p))
+            {
+                summary = summary.with_params(&mechanism);
             }
             summary.file = Some((results_paths[0].clone(), write_time));
             summary.failure = failure.clone();

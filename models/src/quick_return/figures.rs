@@ -49,7 +49,7 @@ use crate::plot::{
 pub use crate::plot::wrap_by_revolution;
 
 use super::results::{Results, CRANK_ANGLE};
-use super::QuickReturnParams;
+use crate::quick_return_rigid::{DrivenMechanism, Mechanism};
 use catalogue::{number, Figure, Plot, Quantity, Stat, FIGURES, IDS};
 
 /// Every figure id [`draw_figures`] knows, in order: `fig03` … `fig19` (the paper's),
@@ -102,7 +102,7 @@ pub struct DrawnFigure {
 /// first error drawing a figure.
 pub fn draw_figures(
     results: &Results,
-    params: &QuickReturnParams,
+    params: &dyn Mechanism,
     out_dir: &Path,
     options: &FigureOptions,
 ) -> Result<Vec<DrawnFigure>, PlotError> {
@@ -125,7 +125,10 @@ pub fn draw_figures(
             .as_ref()
             .is_none_or(|only| only.iter().any(|o| o == id))
     };
-    let data = Data { results, params };
+    let data = Data {
+        results,
+        mechanism: DrivenMechanism::of(params),
+    };
     // The figures are independent: drawn in parallel, collected in order.
     let chosen: Vec<&Figure> = FIGURES.iter().filter(|f| selected(f.id)).collect();
     chosen
@@ -140,10 +143,10 @@ pub fn draw_figures(
         .collect()
 }
 
-/// The run's results and parameters, and how to draw each kind of figure from them.
+/// The run's results and mechanism, and how to draw each kind of figure from them.
 struct Data<'a> {
     results: &'a Results,
-    params: &'a QuickReturnParams,
+    mechanism: DrivenMechanism,
 }
 
 impl Data<'_> {

@@ -51,8 +51,7 @@ use bgdsl_runtime::{Solver, Stats};
 
 use super::results::{Results, CRANK_ANGLE, N_COLUMNS};
 use super::run::Recorded;
-use super::QuickReturnParams;
-use crate::quick_return_rigid::{try_quick_return_cycle, RigidParams};
+use crate::quick_return_rigid::{try_quick_return_cycle, Mechanism};
 
 /// The settled part of the run the measurements are taken over, s (both ends included).
 pub const WINDOW: [f64; 2] = [2.5, 5.0];
@@ -328,24 +327,25 @@ pub enum RigidReference {
 
 impl RigidReference {
     /// The rigid mechanism's cycle with the links and pivot distance of `p`, driven at
-    /// `p.w_drive`. A crank turning clockwise (`w_drive < 0`) makes the other stroke
+    /// its drive speed `w_drive`. A crank turning clockwise (`w_drive < 0`) makes the other stroke
     /// the slow one, so the ratio is inverted.
-    pub fn of(p: &QuickReturnParams) -> Self {
-        if !(p.w_drive.is_finite() && p.w_drive != 0.0) {
+    pub fn of(p: &dyn Mechanism) -> Self {
+        let w_drive = p.drive_speed();
+        if !(w_drive.is_finite() && w_drive != 0.0) {
             return RigidReference::Undefined(format!(
                 "the crank is not driven (w_drive = {} rad/s)",
-                p.w_drive
+                w_drive
             ));
         }
-        match try_quick_return_cycle(&RigidParams::of_model(p)) {
+        match try_quick_return_cycle(&p.rigid_params()) {
             Ok(cycle) => RigidReference::Cycle {
                 stroke: cycle.stroke,
-                time_ratio: if p.w_drive > 0.0 {
+                time_ratio: if w_drive > 0.0 {
                     cycle.time_ratio
                 } else {
                     1.0 / cycle.time_ratio
                 },
-                period: TAU / p.w_drive.abs(),
+                period: TAU / w_drive.abs(),
             },
             Err(why) => RigidReference::Undefined(why.to_string()),
         }
@@ -414,7 +414,7 @@ impl Summary {
 
     /// This summary with the rigid-link reference of the run's parameters `p`.
     #[must_use]
-    pub fn with_params(mut self, p: &QuickReturnParams) -> Self {
+    pub fn with_params(mut self, p: &dyn Mechanism) -> Self {
         self.rigid = RigidReference::of(p);
         self
     }
@@ -613,6 +613,7 @@ impl fmt::Display for Summary {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::quick_return::QuickReturnParams;
 
     #[test]
     fn finds_turning_points_and_drops_wiggles() {

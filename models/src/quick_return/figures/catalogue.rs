@@ -92,8 +92,9 @@ pub(super) const FIGURES: [Figure; N_FIGURES] = [
         title: "Variation of angular momentum of link 1 with time",
         plot: Plot::Time(H1),
         about: "The crank's angular momentum about its centre of mass (h1_x, h1_y, h1_z). \
-                The z component is almost constant after the start-up transient: the \
-                crank is driven at w_drive through the compliant coupling K_C, R_C.",
+                The z component is almost constant after the start-up transient where \
+                the crank is driven at w_drive through the compliant coupling K_C, R_C, \
+                and exactly constant where a flow source turns it (quick_return_rigid).",
     },
     Figure {
         id: "fig05",

@@ -118,8 +118,8 @@ impl EnergyBalance {
             "Not in the paper. The power balance of the bond graph integrated over time \
              ({}): the energy the drive supplies (∫ P_in dt) and the energy all dampers \
              dissipate (∫ P_diss dt), both by the trapezoid rule on the samples; the change \
-             of the stored energy (kinetic, spring and gravitational potential, column \
-             E_stored) against their difference; and the residual ΔE_stored − ∫ (P_in − \
+             of the stored energy (column E_stored: kinetic, gravitational and, where \
+             the model has springs, elastic) against their difference; and the residual ΔE_stored − ∫ (P_in − \
              P_diss) dt, zero for an exact solution integrated exactly. At the end: ∫ P_in \
              dt = {} J, ∫ P_diss dt = {} J, ΔE_stored = {} J, residual {} J.",
             data.span(),

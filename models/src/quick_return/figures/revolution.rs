@@ -18,11 +18,6 @@ use super::{revolution_axis, significant, Data, PANEL_HEIGHT};
 type Pick = fn(&Motion) -> f64;
 
 impl Data<'_> {
-    /// The rigid mechanism with the run's link parameters.
-    fn rigid_params(&self) -> RigidParams {
-        RigidParams::of_model(self.params)
-    }
-
     /// The samples of the last full crank revolution: from the last sample at or
     /// before `θ_end − 2π` to the end. `None` if the crank did not turn a full
     /// revolution.
@@ -73,6 +68,8 @@ impl Data<'_> {
 /// The output slider over the last revolution, from the model and from the rigid
 /// kinematics.
 struct SliderRevolution<'a> {
+    /// The model's name.
+    model: &'static str,
     rows: Range<usize>,
     /// Unwrapped crank angle, position, velocity and acceleration of the model.
     angle: &'a [f64],
@@ -86,8 +83,8 @@ struct SliderRevolution<'a> {
 impl<'a> SliderRevolution<'a> {
     fn new(data: &'a Data<'_>, rows: Range<usize>) -> Self {
         let column = |name| &data.column(name)[rows.clone()];
-        let m5 = data.params.m5;
-        let rigid = data.rigid_params();
+        let rigid = data.mechanism.rigid.clone();
+        let m5 = rigid.m5;
         let j1z = rigid.inertias_z()[0];
         let velocity = column("p5_x").iter().map(|p| p / m5).collect();
         let acceleration = column("F_O5_x")
@@ -96,12 +93,13 @@ impl<'a> SliderRevolution<'a> {
             .map(|(f, g)| (f + g) / m5)
             .collect();
         SliderRevolution {
+            model: data.results.model_name(),
             angle: column(CRANK_ANGLE),
             motion: [column("r_C5_x").to_vec(), velocity, acceleration],
             crank_speed: column("h1_z").iter().map(|h| h / j1z).collect(),
             rows,
             rigid,
-            drive_speed: data.params.w_drive,
+            drive_speed: data.mechanism.drive_speed,
         }
     }
 
@@ -145,10 +143,7 @@ impl<'a> SliderRevolution<'a> {
                 .map(|&th| (th, pick(&self.rigid_at(th, self.drive_speed))))
                 .collect();
             let mut series = vec![
-                Series::new(
-                    "compliant model",
-                    wrap_by_revolution(self.angle, &self.motion[k]),
-                ),
+                Series::new("model", wrap_by_revolution(self.angle, &self.motion[k])),
                 Series::new(format!("rigid, {} rad/s", self.drive_speed), rigid),
             ];
             if what == "velocity" {
@@ -186,19 +181,19 @@ impl<'a> SliderRevolution<'a> {
             "Not in the paper. The output slider (slider 2, link 5) over the last full crank \
              revolution of the run (t = {} to {} s), against the crank angle wrapped to \
              [0, 2π), with the rigid-body kinematics of the ideal mechanism (dashed) at the \
-             constant drive speed θ̇ = {} rad/s. Compliant model: position r_C5_x; \
-             velocity p5_x/m5, from the momentum state (not a differentiated position); \
+             constant drive speed θ̇ = {} rad/s. The model ({}): position r_C5_x; \
+             velocity p5_x/m5, from the recorded momentum (not a differentiated position); \
              acceleration (F_O5_x + F_5C_x)/m5, Newton's second law along X0 with the two \
              recorded joint forces on the slider (exact at the samples, no numerical \
              differentiation). Largest differences from the rigid kinematics at the same \
-             crank angle: position {} m, velocity {} m/s, acceleration {} m/s². The crank \
-             itself does not turn at a constant speed: the drive reaches it through the \
-             compliant coupling K_C, R_C, and its speed h1_z/J1z ranges from {} to {} rad/s \
-             over this revolution. The rigid velocity at the crank's own speed (orange) \
+             crank angle: position {} m, velocity {} m/s, acceleration {} m/s². The crank's \
+             own speed h1_z/J1z ranges from {} to {} rad/s over this revolution (a drive \
+             through the compliant coupling K_C, R_C makes it vary). The rigid velocity at the crank's own speed (orange) \
              differs from the model's by at most {} m/s.",
             t[self.rows.start],
             t[self.rows.end - 1],
             self.drive_speed,
+            self.model,
             significant(self.worst(x, |m| m.value)),
             significant(self.worst(v, |m| m.rate)),
             significant(self.worst(a, |m| m.accel)),
