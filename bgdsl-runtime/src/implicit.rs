@@ -429,8 +429,10 @@ fn largest<const K: usize>(r: &[f64; K]) -> f64 {
 ///
 /// A [`Failure`] with `t` NaN (the caller knows the time): [`FailureKind::NonFinite`]
 /// if the residual at the guess is not finite, [`FailureKind::Singular`] if a pivot of
-/// `J` is at most [`SINGULAR_PIVOT`] times its largest entry (or `J` is not finite),
-/// [`FailureKind::NotConverged`] with the worst unknown and its residual.
+/// `J` is at most [`SINGULAR_PIVOT`] times its largest entry (or `J` is not finite) for
+/// a linear system or at a solution of a non-linear one, [`FailureKind::NotConverged`]
+/// with the worst unknown and its residual otherwise (a non-linear iteration that meets
+/// a vanishing derivative away from a solution has not converged).
 pub fn solve<const K: usize>(
     guess: [f64; K],
     linear: bool,
@@ -468,8 +470,19 @@ pub fn solve<const K: usize>(
         });
     }
     for _ in 0..MAX_ITERATIONS {
-        let lu = factor(&at)?;
-        if worst(&z, &at.r).1 <= TOLERANCE {
+        let converged = worst(&z, &at.r).1 <= TOLERANCE;
+        let lu = match factor(&at) {
+            Ok(lu) => lu,
+            // Away from a solution, a vanishing derivative of a non-linear residual is
+            // where Newton cannot go on, not a property of the system: the loop did not
+            // converge, and its residual there is what to report.
+            Err(_) if !converged => {
+                let (j, _) = worst(&z, &at.r);
+                return Err(failure(FailureKind::NotConverged, j, at.r[j]));
+            }
+            Err(singular) => return Err(singular),
+        };
+        if converged {
             return Ok(Solution { z, lu });
         }
         let step = lu.solve(&at.r);

@@ -478,8 +478,6 @@ mod unsolvable {
     /// derivative vanishes is still a loop that did not converge (with its residual),
     /// not a "redundant constraint or dead-point configuration".
     #[test]
-    #[ignore = "needs a singular Jacobian met during Newton iterations on a non-linear \
-                loop reported as UnsolvedLoop, not SingularConstraint: issue 12"]
     fn report_an_unconverged_loop_even_where_newton_meets_a_zero_derivative() {
         let model = UnluckyLoop::default();
         let mut dx = [0.0];

@@ -93,13 +93,13 @@ bond_graph! {
         param r = 1000.0;
         /// first capacitance, F
         param c1 = 1.0e-6;
-        /// second capacitor's stiffness 1/C2, 1/F (C2 = 3 µF)
-        param k2 = 1.0 / 3.0e-6;
+        /// second capacitance, F (its law a parameter expression, as the first's)
+        param c2 = 3.0e-6;
 
         Se source = e0;
         R resistor = r;
         C cap1 = 1.0 / c1;
-        C cap2 = k2;
+        C cap2 = 1.0 / c2;
         1 current;
         0 node;
 
