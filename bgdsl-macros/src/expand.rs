@@ -31,8 +31,8 @@ fn expand_model(model: ModelDef) -> TokenStream {
 fn try_expand(model: ModelDef) -> syn::Result<TokenStream> {
     let graph = resolve::resolve(model)?;
     let causality = causality::assign(&graph).map_err(|errors| {
-        errors
-            .iter()
+        causality::independent(&graph, &errors)
+            .into_iter()
             .map(|e| causality::render(&graph, e))
             .reduce(|mut all, next| {
                 all.combine(next);

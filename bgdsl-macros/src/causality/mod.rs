@@ -657,6 +657,46 @@ impl Scap<'_> {
     }
 }
 
+/// The mistakes worth reporting: a redundant constraint is found once from each rigid
+/// side it over-determines (each storage element's requirement meets the same two
+/// connections), so only the first report of one set of connections is kept.
+pub fn independent<'e>(graph: &Graph, errors: &'e [CausalityError]) -> Vec<&'e CausalityError> {
+    let mut seen: Vec<Vec<ElementId>> = Vec::new();
+    errors
+        .iter()
+        .filter(|error| {
+            let CausalityError::Conflict {
+                second,
+                first,
+                at,
+                routes,
+                twice,
+            } = error
+            else {
+                return true;
+            };
+            let redundant = (first == second || *twice == Some(true))
+                && redundant_constraint(graph, *second, *first, *at, routes).is_some();
+            if !redundant {
+                return true;
+            }
+            let mut connections: Vec<ElementId> = routes
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&id| !matches!(graph.element(id).kind, ElementKind::C | ElementKind::I))
+                .collect();
+            connections.sort();
+            connections.dedup();
+            if seen.contains(&connections) {
+                return false;
+            }
+            seen.push(connections);
+            true
+        })
+        .collect()
+}
+
 /// Where derivative causality is allowed, a conflict that remains is a redundant
 /// constraint: two rigid connections fixing one junction's variable. The message names
 /// the elements on both routes.
