@@ -370,4 +370,5 @@ pub fn bond_graph(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
 }
 
 #[cfg(test)]
+#[path = "tests/expand_all.rs"]
 mod expand_all;
