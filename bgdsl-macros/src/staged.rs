@@ -8,7 +8,8 @@
 //!   first, returning z − (their computed values);
 //! - `__solve(t, x)`: Newton on `__residual` over `DualN<K>` (x constant) from the
 //!   remembered guess, then the implicit-function step on the caller's scalar
-//!   (`Solution::refine`), so derivatives flow through the solve exactly; `None` after
+//!   (`Solution::refine`), so derivatives flow through the solve exactly (skipped for
+//!   a linear system on `f64`, whose one step is the solution already); `None` after
 //!   recording a failure.
 //!
 //! `derivatives`, `outputs`, `power_balance` and `check` call `__solve` first and then
@@ -190,6 +191,12 @@ pub fn methods(
                     ::core::result::Result::Ok(__solution) => {
                         self.__implicit.remember(&__solution.z);
                         let __zs: [Scalar; #k] = __solution.z.map(<Scalar as #rt::Scalar>::from_f64);
+                        // On plain numbers a linear system's one step is already the
+                        // solution to rounding: the implicit-function step would only
+                        // repeat the whole evaluation to carry tangents there are none of.
+                        if #linear && ::core::any::TypeId::of::<Scalar>() == ::core::any::TypeId::of::<::core::primitive::f64>() {
+                            return ::core::option::Option::Some(__zs);
+                        }
                         let __r = self.__residual::<Scalar>(__t, __x, &__zs);
                         ::core::option::Option::Some(__solution.refine(&__r))
                     }
