@@ -128,14 +128,7 @@ fn storage_law<'a>(
                 (Shape::Scalar, Op::Apply | Op::ApplyTranspose) => quote!((#at * (#modulus))),
                 (Shape::Scalar, _) => quote!((#at / (#modulus))),
                 (shape, op) => {
-                    let n = shape.len();
-                    let method = match op {
-                        Op::Apply => quote!(apply),
-                        Op::ApplyTranspose => quote!(apply_transpose),
-                        Op::Solve => quote!(solve),
-                        Op::SolveTranspose => quote!(solve_transpose),
-                    };
-                    quote!(::bgdsl_runtime::multibond::Linear::<Scalar, #n>::#method(&(#modulus), #at))
+                    crate::codegen::linear_op(shape, op, modulus, at.clone(), Span::call_site())
                 }
             }))
         }
