@@ -26,9 +26,13 @@
 
 use core::f64::consts::TAU;
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use bgdsl_runtime::{DormandPrinceOptions, FixedStep, Model, Radau5Options, Rodas4Options, Solver};
+#[path = "common/timing.rs"]
+mod timing;
+use timing::time_per_call;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::quick_return::results::sample_times;
 use models::quick_return::run::record;
@@ -75,20 +79,6 @@ fn rigid_methods() -> [(&'static str, Solver); 4] {
             }),
         ),
     ]
-}
-
-/// Median wall time of `f` over enough calls to take ~0.5 s (at least 5).
-fn time_per_call(mut f: impl FnMut()) -> Duration {
-    f();
-    let started = Instant::now();
-    let mut times = Vec::new();
-    while times.len() < 5 || started.elapsed() < Duration::from_millis(500) {
-        let call = Instant::now();
-        f();
-        times.push(call.elapsed());
-    }
-    times.sort_unstable();
-    times[times.len() / 2]
 }
 
 /// One derivative and one evaluation of the outputs, at states along a run.

@@ -45,9 +45,13 @@
 mod hand;
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use bgdsl_runtime::{JacobianEvaluator, Model, Radau5Options, Solver};
+#[path = "common/timing.rs"]
+mod timing;
+use timing::time_per_call;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::quick_return::results::{sample_times, COLUMNS};
 use models::quick_return::run::{record, Recorded};
@@ -95,21 +99,6 @@ fn achieved_error(run: &Recorded, reference: &Recorded) -> (f64, &'static str) {
         }
     }
     worst
-}
-
-/// Median wall time of `f` over enough calls to take ~0.5 s (at least 5): the median,
-/// not the mean, as the machine is shared.
-fn time_per_call(mut f: impl FnMut()) -> Duration {
-    f();
-    let started = Instant::now();
-    let mut times = Vec::new();
-    while times.len() < 5 || started.elapsed() < Duration::from_millis(500) {
-        let call = Instant::now();
-        f();
-        times.push(call.elapsed());
-    }
-    times.sort_unstable();
-    times[times.len() / 2]
 }
 
 /// The settings (a) and (b): label, solver, sample times.
