@@ -805,7 +805,8 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
         .map(|(state, offset)| {
             if let Some(m) = state.mode {
                 let mode = &graph.modes[m];
-                let value = crate::event_code::stored(mode.kind, f64_expr(&mode.init));
+                let span = syn::spanned::Spanned::span(&mode.init);
+                let value = crate::event_code::stored(mode.kind, f64_expr(&mode.init), span);
                 return write_value(state.shape, value, &x0, offset, &f64_type);
             }
             let declared = match (state.element, state.kinematic) {
