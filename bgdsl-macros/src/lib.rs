@@ -3,7 +3,9 @@
 //! A pipeline of plain functions over `proc_macro2` tokens, one module per stage:
 //! `syntax` (parse) → `flatten` (submodels) → `resolve` (names, structure, dimensions) → `causality` (SCAP) →
 //! `equations` (assignments in computation order; `implicit` tears what cannot be
-//! ordered) → `codegen` (Rust; `staged` for a model with unknowns). Each stage
+//! ordered) → `codegen` (Rust; `staged` for a model with unknowns). Modes and events
+//! ride along: `event_syntax` parses them, `events` resolves and rewrites them (in
+//! `resolve` and `equations`), `event_code` generates their `Model` items. Each stage
 //! returns spanned `syn::Error`s, combined so that one compile reports every independent
 //! mistake; the macro never panics.
 //!

@@ -254,3 +254,16 @@ fn never_panic_on_random_event_statements() {
         "{expanded} {rejected}"
     );
 }
+
+#[test]
+fn report_a_mode_read_by_an_initial_value() {
+    let messages = errors(
+        r#"model M { C c = 1.0; I m = 1.0; 1 v; v -> { c, m }; mode on: bool = false;
+           init c.q = if on { 1.0 } else { 0.0 }; when c.q > 1.0 { on = true; } }"#,
+    );
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    assert!(
+        messages[0].starts_with("mode `on` has no value yet here"),
+        "{messages:?}"
+    );
+}
