@@ -227,8 +227,9 @@ mod value_shape;
 /// events; `STATE_NAMES`, the named state record, `initial_state`, trajectories and
 /// CSVs carry it (a `bool` as 0.0 or 1.0), and `Model::MODES` describes it (name, type,
 /// doc comment). Laws, outputs, `der`, conditions and actions read a mode by its name as
-/// a plain value: a `bool`, an `i64` (integer literals next to it stay integers:
-/// `gear == 2`, `gear + 1`), or, for an `f64` mode, a constant of the scalar type. It
+/// a plain value: a `bool`, an `i64` (integer literals in arithmetic and comparisons
+/// with it stay integers: `gear == 2`, `(gear * 2 + 1) % 3`), or, for an `f64` mode, a
+/// constant of the scalar type. It
 /// never carries a derivative, so `if stuck { .. } else { .. }` switches between two
 /// smooth laws, each with its exact Jacobian (`JACOBIAN_SPARSITY` has an empty row for
 /// a mode and no column for it).

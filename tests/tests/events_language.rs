@@ -73,6 +73,7 @@ bond_graph! {
             last = t;
         }
         output third = if count >= 3 { 1.0 } else { 0.0 };
+        output odd = if (count * 3 + 1) % 2 == 0 { 1.0 } else { 0.0 };
         output since = t - last;
     }
 }
@@ -377,6 +378,14 @@ mod should {
         assert!((traj.value(last, "last").unwrap() - t_last).abs() < 1e-8);
         assert_eq!(traj.value(last, "third"), Some(1.0));
         assert_eq!(traj.value(0, "third"), Some(0.0));
+        // 3 n + 1 is even exactly when n is odd: not at the start (0) nor the end (6),
+        // but after the first crossing.
+        assert_eq!(traj.value(0, "odd"), Some(0.0));
+        assert_eq!(traj.value(last, "odd"), Some(0.0));
+        let first = events.get(0).unwrap();
+        let mut y = [0.0; 3];
+        model.outputs(first.t, first.after, &mut y);
+        assert_eq!(y[1], 1.0);
     }
 
     /// From x = 0 at 1 m/s: the right wall at t = 1 s, the left at t = 3 s, the right
