@@ -272,3 +272,38 @@ impl<const D: u8> Model for Sine<D> {
         EventAction::Continue
     }
 }
+
+/// The [`Ball`] with its floor event firing in both directions: a ball leaving the
+/// floor after a bounce must not fire it again on the way up.
+#[derive(Clone, Debug, Default)]
+pub struct EitherWayBall(pub Ball);
+
+impl Model for EitherWayBall {
+    type Params = ();
+    const NAME: &'static str = "either_way_ball";
+    const STATE_NAMES: &'static [&'static str] = Ball::STATE_NAMES;
+    const OUTPUT_NAMES: &'static [&'static str] = Ball::OUTPUT_NAMES;
+    const EVENTS: &'static [EventInfo] = &[EventInfo {
+        name: "floor",
+        direction: Direction::Both,
+        doc: "The ball reaches the floor (or leaves it).",
+    }];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        self.0.initial_state(x0);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        self.0.derivatives(t, x, dx);
+    }
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]) {
+        self.0.outputs(t, x, y);
+    }
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        self.0.event_indicators(t, x, g);
+    }
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction {
+        self.0.apply_event(index, t, x)
+    }
+}
