@@ -367,6 +367,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Stats, SolverError> {
         self.stats = Stats::default();
+        let resume_events = core::mem::take(&mut self.resume_events);
         if x0.len() != M::N_STATES {
             return Err(SolverError::StateLengthMismatch {
                 model: M::NAME,
@@ -390,7 +391,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         }
         if self.events.active() {
             let model = self.model.get();
-            if core::mem::take(&mut self.resume_events) {
+            if resume_events {
                 self.events.resume(model, t0, &self.x, &mut self.stats);
             } else {
                 self.events.reset(model, t0, &self.x, &mut self.stats);
