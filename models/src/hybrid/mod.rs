@@ -19,6 +19,5 @@ pub use ball::{BallPenalty, BallPenaltyParams, BouncingBall, BouncingBallParams}
 pub use clutch::{ClutchEngagement, ClutchEngagementParams};
 pub use end_stop::{EndStop, EndStopParams};
 pub use rectifier::{
-    HalfWaveRectifier, HalfWaveRectifierExp, HalfWaveRectifierExpParams,
-    HalfWaveRectifierParams,
+    HalfWaveRectifier, HalfWaveRectifierExp, HalfWaveRectifierExpParams, HalfWaveRectifierParams,
 };
