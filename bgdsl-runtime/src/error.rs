@@ -184,6 +184,16 @@ pub enum SolverError {
         /// The time since its previous firing, s (0 when it could not be resolved).
         interval: f64,
     },
+    /// An event indicator ([`Model::event_indicators`](crate::Model::event_indicators))
+    /// evaluated to NaN or infinity, so whether its event fires cannot be told.
+    NonFiniteIndicator {
+        /// The event's name.
+        event: &'static str,
+        /// The time of the evaluation.
+        t: f64,
+        /// The offending value.
+        value: f64,
+    },
     /// A run handled more than [`EventOptions::max_events`](crate::EventOptions::max_events)
     /// events.
     TooManyEvents {
@@ -395,15 +405,35 @@ impl fmt::Display for SolverError {
                 t,
                 count,
                 interval,
-            } => write!(
+            } => {
+                write!(f, "at t = {}, event `{event}` chattered: ", Num(*t))?;
+                if *interval > 0.0 {
+                    write!(
+                        f,
+                        "it fired {count} times in a row, each within `min_interval` of \
+                         the one before (the last {} s after it)",
+                        Num(*interval)
+                    )?;
+                } else {
+                    write!(
+                        f,
+                        "it fired again within the time tolerance of its previous \
+                         firing ({count} quick firings in a row)"
+                    )?;
+                }
+                f.write_str(
+                    "; the model switches ever faster (Zeno behaviour, or an action that \
+                     leaves the state where the event fires again): give it a rest or \
+                     stick mode that ends the switching, or widen \
+                     `EventOptions::min_interval` / `max_repeats` if the switching is real",
+                )
+            }
+            SolverError::NonFiniteIndicator { event, t, value } => write!(
                 f,
-                "at t = {}, event `{event}` chattered: it fired {count} times in a row, the \
-                 last {} s after the one before; the model switches ever faster (Zeno \
-                 behaviour, or an action that leaves the state where the event fires \
-                 again): give it a rest or stick mode that ends the switching, or widen \
-                 `EventOptions::min_interval` / `max_repeats` if the switching is real",
+                "at t = {}, the indicator of event `{event}` evaluated to {}: its \
+                 condition is undefined at the state reached",
                 Num(*t),
-                Num(*interval)
+                Num(*value)
             ),
             SolverError::TooManyEvents { event, t, limit } => write!(
                 f,

@@ -18,6 +18,11 @@ use crate::solver::{Simulation, Solver, Stats};
 /// between calls never reaches into the step-size history or a stale Jacobian. All
 /// memory is taken when the stepper is made: advancing allocates nothing.
 ///
+/// A model's events ([`crate::event`]) are handled inside each advance as in a
+/// [`Simulation`] run and listed in [`Stepper::events`]; a stop action ends the advance
+/// at the event ([`Stepper::time`] says where). Events the host causes by changing
+/// inputs between advances are the host's to handle (see [`Stepper::events`]).
+///
 /// ```
 /// use bgdsl_runtime::{bond_graph, Solver, Stepper};
 ///
@@ -43,6 +48,9 @@ pub struct Stepper<M: Model + 'static> {
     x: Vec<f64>,
     y: Vec<f64>,
     events: EventLog,
+    /// The last advance ended where the stepper stands, so the next continues its
+    /// events (false at the start, after `set_state`, `restore` or a failed advance).
+    continuing: bool,
 }
 
 /// The events a stepper keeps per advance unless told otherwise
@@ -127,6 +135,7 @@ impl<M: Model + 'static> Stepper<M> {
             x: vec![0.0; M::N_STATES],
             y: vec![0.0; M::N_OUTPUTS],
             events: EventLog::bounded(M::N_STATES, DEFAULT_EVENT_CAPACITY),
+            continuing: false,
         };
         stepper.set_state(t0, x0)?;
         Ok(stepper)
@@ -134,7 +143,9 @@ impl<M: Model + 'static> Stepper<M> {
 
     /// Integrates from the current time to `t` (with the inputs as they are now) and
     /// returns the outputs there, in the order of [`Model::OUTPUT_NAMES`]. Asking for
-    /// the current time only evaluates the outputs.
+    /// the current time only evaluates the outputs. The events inside the interval are
+    /// handled and listed in [`Stepper::events`]; an event that stops the run ends the
+    /// advance at its time, with the outputs there (after the event).
     ///
     /// # Errors
     ///
@@ -165,7 +176,11 @@ impl<M: Model + 'static> Stepper<M> {
             events: &mut self.events,
             stopped: false,
         };
+        if core::mem::take(&mut self.continuing) {
+            self.simulation.continue_events();
+        }
         self.simulation.run(self.t, &self.x, &[t], &mut recorder)?;
+        self.continuing = true;
         let stopped = recorder.stopped;
         self.x.copy_from_slice(self.simulation.state());
         // A stop action ends the advance at the event's time, before `t`.
@@ -178,10 +193,14 @@ impl<M: Model + 'static> Stepper<M> {
     /// ([`Stepper::set_event_capacity`], 64 by default), beyond which they are only
     /// counted ([`EventLog::dropped`]).
     ///
-    /// Events the host causes itself by changing inputs or parameters between advances
-    /// (a set point stepped across a switching threshold) are the host's to handle:
-    /// the indicators' references are taken afresh at the start of every advance, so
-    /// such a crossing does not fire.
+    /// An advance continues the events of the one before: an event that fired at its
+    /// very end (a stop, a bounce) is armed as it would be within one run, and the
+    /// chattering rule counts on. Events the host causes itself by changing inputs or
+    /// parameters between advances (a set point stepped across a switching threshold)
+    /// are the host's to handle: the indicators' references are taken again, with the
+    /// model as it now stands, at the start of every advance, so such a crossing does
+    /// not fire. [`Stepper::set_state`] and [`Stepper::restore`] start the events
+    /// afresh (no event at the new point).
     pub fn events(&self) -> &EventLog {
         &self.events
     }
@@ -250,6 +269,7 @@ impl<M: Model + 'static> Stepper<M> {
         }
         self.t = t;
         self.x.copy_from_slice(x);
+        self.continuing = false;
         Ok(())
     }
 

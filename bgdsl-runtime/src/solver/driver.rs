@@ -23,6 +23,11 @@ use crate::record::{Recorder, Trajectory};
 /// not allocate (a [`Trajectory`] created with enough capacity) a run is free of heap
 /// allocation. A simulation can be run any number of times.
 ///
+/// Every method handles the model's events ([`crate::event`]): after each step the
+/// indicators are checked, a crossing is located and its action applied, and the
+/// method restarts from the state after it; [`Simulation::set_event_options`] bounds
+/// how many events a run handles and when it gives up on chattering ones.
+///
 /// ```
 /// use bgdsl_runtime::{Model, Scalar, Simulation, Solver, Trajectory};
 ///
@@ -67,6 +72,8 @@ pub struct Simulation<'m, M: Model> {
     /// The state at the start of the last step (fixed-step methods re-take the step
     /// from it to locate an event).
     x_start: Vec<f64>,
+    /// The next run continues the last one's events ([`Simulation::continue_events`]).
+    resume_events: bool,
 }
 
 /// What a run does after a step, once its events are handled.
@@ -257,6 +264,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             stats: Stats::default(),
             events: Events::new::<M>(),
             x_start: vec![0.0; n],
+            resume_events: false,
         })
     }
 
@@ -292,12 +300,20 @@ impl<'m, M: Model> Simulation<'m, M> {
         Ok(())
     }
 
+    /// Makes the next run continue the events of the last one, which ended where the
+    /// next starts (a [`Stepper`](crate::Stepper)'s next advance): see
+    /// [`crate::event`]'s references.
+    pub(crate) fn continue_events(&mut self) {
+        self.resume_events = true;
+    }
+
     /// The event options runs use.
     pub fn event_options(&self) -> &EventOptions {
         &self.events.options
     }
 
-    /// The time the last run reached: its last sample time, or where it failed.
+    /// The time the last run reached: its last sample time, the time of an event that
+    /// stopped it, or where it failed.
     pub fn time(&self) -> f64 {
         self.t
     }
@@ -351,6 +367,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Stats, SolverError> {
         self.stats = Stats::default();
+        let resume_events = core::mem::take(&mut self.resume_events);
         if x0.len() != M::N_STATES {
             return Err(SolverError::StateLengthMismatch {
                 model: M::NAME,
@@ -373,8 +390,12 @@ impl<'m, M: Model> Simulation<'m, M> {
             k.restart();
         }
         if self.events.active() {
-            self.events
-                .reset(self.model.get(), t0, &self.x, &mut self.stats);
+            let model = self.model.get();
+            if resume_events {
+                self.events.resume(model, t0, &self.x, &mut self.stats)?;
+            } else {
+                self.events.reset(model, t0, &self.x, &mut self.stats)?;
+            }
         }
         match self.solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => self
@@ -395,12 +416,16 @@ impl<'m, M: Model> Simulation<'m, M> {
             cause,
             SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
         );
+        if !explicable {
+            // Events, budgets: nothing stiffness explains (and no estimate to allocate).
+            return cause;
+        }
         let bound = match self.solver {
             Solver::Rk4(_) => stiffness::RK4_STABILITY,
             _ => stiffness::DOPRI5_STABILITY,
         };
         match stiffness::spectral_radius(self.model.get(), t0, x0) {
-            Some(rho) if explicable && rho * step > bound => SolverError::ProbablyStiff {
+            Some(rho) if rho * step > bound => SolverError::ProbablyStiff {
                 cause: Box::new(cause),
                 method: self.solver.name(),
                 step,
@@ -576,7 +601,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Flow, SolverError> {
         let model = self.model.get();
-        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats) {
+        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats)? {
             return Ok(Flow::Continue);
         }
         let t_b = self.t;
@@ -584,11 +609,18 @@ impl<'m, M: Model> Simulation<'m, M> {
         let t_star = if refit {
             let (kernel, x_a) = (explicit(&mut self.kernel), &self.x_start);
             let n_rhs = &mut stats.n_rhs;
+            // `f(t_a, x_a)`, evaluated once: an attempt leaves the first stage alone.
+            kernel.restart();
+            let mut prepared = false;
             let restep = |t: f64, out: &mut [f64]| {
-                kernel.restart();
+                if !prepared {
+                    kernel
+                        .prepare(model, t_a, x_a, n_rhs)
+                        .map_err(non_finite::<M>)?;
+                    prepared = true;
+                }
                 kernel
-                    .prepare(model, t_a, x_a, n_rhs)
-                    .and_then(|()| kernel.attempt(model, t_a, t, x_a, n_rhs))
+                    .attempt(model, t_a, t, x_a, n_rhs)
                     .map_err(non_finite::<M>)?;
                 out.copy_from_slice(kernel.x_new());
                 Ok(())
@@ -613,6 +645,9 @@ impl<'m, M: Model> Simulation<'m, M> {
         let action = self
             .events
             .apply(model, t_star, &mut self.x, recorder, &mut self.stats)?;
+        // Also before a stop: a stepper's next advance continues from here.
+        self.events
+            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
         if action == EventAction::Stop {
             let mut recorded = false;
             while *next < n && samples.get(*next) <= t_star {
@@ -625,8 +660,6 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
             return Ok(Flow::Stop);
         }
-        self.events
-            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
         Ok(Flow::Restart)
     }
 
