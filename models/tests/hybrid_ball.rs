@@ -194,10 +194,10 @@ fn without_a_rest_speed_the_run_ends_at_the_zeno_point_with_the_chattering_error
 }
 
 /// The bench's smooth stand-in: the penalty ball's first rebound reaches the event
-/// model's first apex `e² h0` (0.64 m) to 2 %. Its damper is chosen for restitution
-/// e of a linear spring-damper measured where the deflection returns to 0, but the
-/// contact lets go earlier, where its force vanishes, and the softplus softens the
-/// touch-down: the two laws agree only to that order, which is the point of events.
+/// model's first apex `e² h0` (0.64 m) to 0.5 % (measured 0.05 %). Its damper is
+/// chosen for restitution e of a linear spring-damper measured where the deflection
+/// returns to 0, while the smooth contact fades out over the softplus's scale: the
+/// laws agree closely but not exactly, and the contact takes some 3 ms.
 #[test]
 fn penalty_ball_rebounds_close_to_the_restitution_law() {
     use models::hybrid::BallPenalty;
@@ -218,9 +218,8 @@ fn penalty_ball_rebounds_close_to_the_restitution_law() {
         .iter()
         .fold(f64::MIN, |a, &b| a.max(b));
     let expected = model.params.restitution.powi(2) * model.params.h0;
-    eprintln!("penalty apex {apex} vs {expected}");
     assert!(
-        (apex - expected).abs() < 0.02 * expected,
+        (apex - expected).abs() < 0.005 * expected,
         "apex {apex} m vs {expected} m"
     );
 }
