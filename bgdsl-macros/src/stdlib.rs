@@ -107,7 +107,10 @@ pub const TEXT: &str = r#"
     /// the usual case) and `g_off >= 0` (0: an ideal open switch, usable only where
     /// the nodes fix the voltage), and `closed0`, the mode at the start: an indicator
     /// starts no event at t0, so a switch whose control is already positive must start
-    /// closed. Element `law` (an R); mode `closed`.
+    /// closed. Element `law` (an R); mode `closed`. An indicator's sign is compared
+    /// at step ends: where the control can cross 0 twice while the states barely
+    /// move (an open switch on a clock), give the integrator a largest step below the
+    /// shortest interval between crossings.
     submodel Switch(a, b, control, r_on, g_off, closed0 = false) {
         /// conducting (r_on) rather than blocking (g_off)
         mode closed: bool = closed0;
@@ -137,7 +140,10 @@ pub const TEXT: &str = r#"
     /// resistance: a source's internal resistance can be folded into it) and `on0`,
     /// the mode at the start (an indicator starts no event at t0: a diode whose
     /// voltage starts at 0 and rises must start on). Element `law` (an R: `law.e` the
-    /// voltage, `branch.f` the current); mode `on`.
+    /// voltage, `branch.f` the current); mode `on`. While it blocks, the circuit's
+    /// states may not see the source that drives its voltage: give the integrator a
+    /// largest step below the shortest conduction window, or it may step over one
+    /// (both crossings inside a step leave the signs at its ends alike).
     submodel Diode(a, b, r_on, g_off = 0.0, on0 = false) {
         /// conducting
         mode on: bool = on0;

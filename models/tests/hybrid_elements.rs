@@ -284,7 +284,15 @@ fn switch_follows_its_control() {
         }
     };
     let mut traj = Trajectory::for_model::<SwitchedRc>(101).with_event_capacity(8);
-    Simulation::new(&model, dopri5(1e-12))
+    // While open, nothing moves, so the steps would be free to grow past the 3 ms the
+    // switch stays closed: a largest step below it (see HalfWaveRectifier's doc).
+    let solver = Solver::DormandPrince(DormandPrinceOptions {
+        rtol: 1e-12,
+        atol: 1e-14,
+        max_step: 1e-3,
+        ..Default::default()
+    });
+    Simulation::new(&model, solver)
         .unwrap()
         .run_uniform(0.0, &initial_state(&model), 1e-2, 101, &mut traj)
         .unwrap();

@@ -154,9 +154,11 @@ fn reference_solves_the_circuit() {
 fn ideal_rectifier_follows_the_piecewise_closed_form() {
     let model = HalfWaveRectifier::default();
     let reference = Reference::new(&model.params, T_END);
+    // A largest step below the 3 ms conduction window: see the stiff methods' test.
     let solver = Solver::DormandPrince(DormandPrinceOptions {
         rtol: 1e-11,
         atol: 1e-13,
+        max_step: 1e-3,
         ..Default::default()
     });
     let mut sim = Simulation::new(&model, solver).unwrap();
@@ -230,6 +232,7 @@ fn exponential_diode_stays_within_the_bound_of_the_ideal_one() {
     let dopri = Solver::DormandPrince(DormandPrinceOptions {
         rtol: 1e-9,
         atol: 1e-12,
+        max_step: 1e-3,
         ..Default::default()
     });
     let mut switched = Trajectory::for_model::<HalfWaveRectifier>(401).with_event_capacity(32);
@@ -237,6 +240,7 @@ fn exponential_diode_stays_within_the_bound_of_the_ideal_one() {
         .unwrap()
         .run_uniform(0.0, &x0, T_END, 401, &mut switched)
         .unwrap();
+    assert_eq!(switched.events().len(), 9, "every switch");
 
     let knee = smooth
         .column("v_diode")
@@ -264,4 +268,61 @@ fn exponential_diode_stays_within_the_bound_of_the_ideal_one() {
         worst >= bound / 3.0,
         "max |v_exp − v_ideal| = {worst} V, bound {bound} V"
     );
+}
+
+/// The stiff methods locate the same switches on their own dense output (Radau5's
+/// collocation polynomial, Rodas4's interpolant, both of order 3) and restart
+/// cleanly after each: at rtol 1e-10 the voltage stays within 1e-6 V of the closed
+/// form and the switches within 1e-8 s (a voltage error δ moves a switch by
+/// δ / 800 V/s at most; measured: Radau5 4.5e-7 V and 2e-10 s, Rodas4 1.4e-8 V and
+/// 8e-12 s). Both run with a largest step of 1 ms: while the diode
+/// blocks, the capacitor's decay does not see the source, so without it Radau5's
+/// steps grow past a whole conduction window (3 ms) and step over both of its
+/// crossings (the runtime, like CVODE, compares an indicator's signs at step ends;
+/// DOPRI5 misses some too, at rtol 1e-8 and 1e-10, and finds them all with the same
+/// largest step).
+#[test]
+fn stiff_methods_follow_the_closed_form_across_the_switches() {
+    use bgdsl_runtime::Rodas4Options;
+    let model = HalfWaveRectifier::default();
+    let reference = Reference::new(&model.params, T_END);
+    let switches = reference.switches();
+    let radau = Solver::Radau5(Radau5Options {
+        rtol: 1e-10,
+        atol: 1e-12,
+        max_step: 1e-3,
+        ..Default::default()
+    });
+    let rodas = Solver::Rodas4(Rodas4Options {
+        rtol: 1e-10,
+        atol: 1e-12,
+        max_step: 1e-3,
+        ..Default::default()
+    });
+    for solver in [radau, rodas] {
+        let mut x0 = vec![0.0; HalfWaveRectifier::STATE_NAMES.len()];
+        model.initial_state(&mut x0);
+        let mut traj = Trajectory::for_model::<HalfWaveRectifier>(201).with_event_capacity(32);
+        Simulation::new(&model, solver)
+            .unwrap()
+            .run_uniform(0.0, &x0, T_END, 201, &mut traj)
+            .unwrap();
+        let name = solver.name();
+        let v = traj.column("v_out").unwrap();
+        let worst = traj
+            .times()
+            .iter()
+            .zip(v)
+            .map(|(&t, v)| (v - reference.v(t)).abs())
+            .fold(0.0, f64::max);
+        let events = traj.events();
+        assert_eq!(events.len(), switches.len(), "{name}: one event per switch");
+        let late = events
+            .iter()
+            .zip(&switches)
+            .map(|(e, t)| (e.t - t).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{name}: voltage off by {worst} V");
+        assert!(late < 1e-8, "{name}: a switch off by {late} s");
+    }
 }

@@ -25,6 +25,12 @@ bond_graph! {
     /// sinusoid. The capacitor starts empty and the source at 0 rising, so the diode
     /// starts on (`on0`).
     ///
+    /// Give the integrator a largest step below the conduction window (3 ms with the
+    /// defaults; `max_step: 1e-3` is safe): the diode's voltage sees the source, but
+    /// while it blocks the capacitor's decay does not, so an adaptive method's steps
+    /// grow past a whole window and its two crossings cancel at the step's ends,
+    /// where the runtime compares the indicator's signs.
+    ///
     /// States: `cap.q` (charge, C); mode `diode.on`.
     ///
     /// | parameter | meaning | unit |
