@@ -217,6 +217,16 @@ mod value_shape;
 /// - `Coupling(a, b, k, c)`: a spring-damper between ports `a` and `b`; its force acts
 ///   on `b`, its opposite on `a`; `spring.q` is `∫ (a − b)`.
 /// - `FrameCoupling(a, b, frame, k, c)`: the same with the laws in a moving frame.
+/// - `Switch(a, b, control, r_on, g_off, closed0)`, `Diode(a, b, r_on, g_off, on0)`:
+///   a resistor between two nodes switching between `e = r_on f` and `f = g_off e`
+///   (mode `closed` / `on`), by a control's or its own voltage's sign.
+/// - `Impact(at, body, gap, dir, restitution, v_rest, held)`: restitution when `gap`
+///   closes, rest mode `resting` below `v_rest`; `Contact(at, gap, dir, k, c)`: a
+///   one-sided spring-damper (mode `touching`).
+/// - `CoulombFriction(a, b, fc, forward0)`, `StickSlip(a, b, fc, fs, held, stuck0,
+///   forward0)`, `Clutch(a, b, tk, ts, held, locked0, forward0)`: friction between two
+///   ports, kinetic or with stiction (`held`: the force that keeps it stuck); see
+///   "Events and modes".
 ///
 /// ## Events and modes
 ///
