@@ -58,24 +58,39 @@
 //! # Ok::<(), bgdsl_runtime::SolverError>(())
 //! ```
 
+mod events;
+
+pub use events::CallEvents;
+
 use crate::error::{SampleTimeProblem, SolverError};
+use crate::event::{EventAction, EventOptions};
 use crate::model::Model;
 use crate::solver::control::{min_step, Adaptive, Grid, Run};
 use crate::solver::explicit::{check_state, non_finite, Arrays, ExplicitRk, Storage};
 use crate::solver::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::solver::{DormandPrinceOptions, FixedStep, Stats};
+use events::Hybrid;
+
+/// The events a call lists unless the integrator's `K` says otherwise.
+pub const DEFAULT_CALL_EVENTS: usize = 4;
 
 /// The classical fourth-order Runge–Kutta method with a fixed step, for a model with
-/// `N` states, in a workspace of arrays (six vectors of `N` numbers, besides the
-/// settings and counters).
+/// `N` states and `E` events, listing up to `K` events per call, in a workspace of
+/// arrays (seven vectors of `N` numbers, eleven of `E`, and `2 K` states for the list,
+/// besides the settings and counters).
+///
+/// Events ([`crate::event`]) are located by re-taking the step that crossed from its
+/// start with a shortened length; after an event the grid resumes (the next step ends
+/// on the next grid point).
 #[derive(Clone, Debug)]
-pub struct Rk4<const N: usize> {
-    kernel: ExplicitRk<Arrays<N, 4>>,
+pub struct Rk4<const N: usize, const E: usize = 0, const K: usize = DEFAULT_CALL_EVENTS> {
+    kernel: ExplicitRk<Arrays<N, 4, 0>>,
     options: FixedStep,
+    hybrid: Hybrid<N, E, K>,
     stats: Stats,
 }
 
-impl<const N: usize> Rk4<N> {
+impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
     /// An integrator with the step and step budget of `options`; fails with
     /// [`SolverError::InvalidOptions`] if a setting is out of range.
     pub fn new(options: FixedStep) -> Result<Self, SolverError> {
@@ -83,6 +98,7 @@ impl<const N: usize> Rk4<N> {
         Ok(Rk4 {
             kernel: ExplicitRk::in_arrays(&RK4),
             options,
+            hybrid: Hybrid::new(),
             stats: Stats::default(),
         })
     }
@@ -97,10 +113,40 @@ impl<const N: usize> Rk4<N> {
         self.stats
     }
 
+    /// Sets how later calls locate events and when they give up on chattering ones
+    /// ([`EventOptions`]; the defaults otherwise).
+    ///
+    /// # Errors
+    ///
+    /// An option is out of range ([`SolverError::InvalidOptions`]); the options are
+    /// then unchanged.
+    pub fn set_event_options(&mut self, options: EventOptions) -> Result<(), SolverError> {
+        options.validate()?;
+        self.hybrid.events.options = options;
+        Ok(())
+    }
+
+    /// The event options calls use.
+    pub fn event_options(&self) -> &EventOptions {
+        &self.hybrid.events.options
+    }
+
+    /// The events of the last call, in time order ([the module's events](self#events)).
+    pub fn events(&self) -> &CallEvents<N, K> {
+        &self.hybrid.log
+    }
+
+    /// Makes the next call start its events afresh, wherever it starts (see [the
+    /// module's events](self#events)).
+    pub fn restart_events(&mut self) {
+        self.hybrid.forget();
+    }
+
     /// One step of size `h` from `(t, x)`, whatever the configured step: afterwards `t`
-    /// is `t + h` and `x` the state there. Fails if `h` is not finite or too small to
-    /// advance the time, or if a stage meets a non-finite value (then `t` and `x` are
-    /// left as they were).
+    /// is `t + h` and `x` the state there, or, if an event fires in the step, `t` is
+    /// the event's time and `x` the state after its action. Fails if `h` is not
+    /// finite or too small to advance the time, or if a stage meets a non-finite value
+    /// (then `t` and `x` are left as they were), or as the events fail.
     pub fn step<M: Model>(
         &mut self,
         model: &M,
@@ -109,6 +155,7 @@ impl<const N: usize> Rk4<N> {
         h: f64,
     ) -> Result<(), SolverError> {
         const { assert!(M::N_STATES == N, "N must be the model's N_STATES") };
+        const { assert!(M::EVENTS.len() == E, "E must be the model's EVENTS.len()") };
         if !t.is_finite() {
             return Err(SolverError::NonFiniteStartTime { t0: *t });
         }
@@ -123,22 +170,30 @@ impl<const N: usize> Rk4<N> {
             return Err(SolverError::StepSizeTooSmall { t: *t, h });
         }
         check_start::<M>(*t, x)?;
-        let t_new = *t + h;
+        self.hybrid.begin(model, *t, x, &mut self.stats)?;
+        let t_a = *t;
+        let t_new = t_a + h;
         self.kernel.restart();
         let n_rhs = &mut self.stats.n_rhs;
         self.kernel
-            .prepare(model, *t, x, n_rhs)
-            .and_then(|()| self.kernel.attempt(model, *t, t_new, x, n_rhs))
+            .prepare(model, t_a, x, n_rhs)
+            .and_then(|()| self.kernel.attempt(model, t_a, t_new, x, n_rhs))
             .map_err(non_finite::<M>)?;
-        self.kernel.accept(*t, t_new, x, false);
+        self.hybrid.x_start = *x;
+        self.kernel.accept(t_a, t_new, x, false);
         *t = t_new;
         self.stats.accepted += 1;
+        self.hybrid
+            .after_fixed_step(model, &mut self.kernel, t_a, t, x, &mut self.stats)?;
+        self.hybrid.finish(*t, x);
         Ok(())
     }
 
     /// Integrates from `(t, x)` to `t_end` in steps of the configured size on the grid
     /// `t + k * step`, the last one shortened (or, within `1e-9` of a step, stretched)
-    /// to end on `t_end` exactly. At most `max_steps` steps per call.
+    /// to end on `t_end` exactly. At most `max_steps` steps per call. An event whose
+    /// action stops the run ends the call at its time (`t` is then the event's time,
+    /// `x` the state after it).
     pub fn advance_to<M: Model>(
         &mut self,
         model: &M,
@@ -147,19 +202,40 @@ impl<const N: usize> Rk4<N> {
         t_end: f64,
     ) -> Result<(), SolverError> {
         const { assert!(M::N_STATES == N, "N must be the model's N_STATES") };
+        const { assert!(M::EVENTS.len() == E, "E must be the model's EVENTS.len()") };
         check_span(*t, t_end)?;
         check_start::<M>(*t, x)?;
         let mut grid = Grid::new(*t, t_end, &self.options)?;
         self.kernel.restart();
         let mut work = Stats::default();
-        let result = Run {
-            model,
-            kernel: &mut self.kernel,
-            t,
-            x,
-            stats: &mut work,
-        }
-        .fixed_steps_to(&mut grid, t_end);
+        let (kernel, hybrid) = (&mut self.kernel, &mut self.hybrid);
+        let mut steps = || {
+            hybrid.begin(model, *t, x, &mut work)?;
+            while *t < t_end {
+                let t_a = *t;
+                if E > 0 {
+                    hybrid.x_start = *x;
+                }
+                let mut run = Run {
+                    model,
+                    kernel: &mut *kernel,
+                    t: &mut *t,
+                    x: &mut x[..],
+                    stats: &mut work,
+                };
+                let on_grid = run.fixed_step(&mut grid, t_end)?;
+                let t_b = *t;
+                match hybrid.after_fixed_step(model, kernel, t_a, t, x, &mut work)? {
+                    Some(EventAction::Stop) => break,
+                    // Cut short of its grid point: the next step ends on it.
+                    Some(EventAction::Continue) if on_grid && *t < t_b => grid.step_back(),
+                    _ => {}
+                }
+            }
+            hybrid.finish(*t, x);
+            Ok(())
+        };
+        let result = steps();
         self.stats.add(work);
         result
     }
@@ -167,18 +243,24 @@ impl<const N: usize> Rk4<N> {
 
 /// Dormand–Prince 5(4) with adaptive step-size control (the method and PI controller of
 /// Hairer's DOPRI5, as [`DormandPrinceOptions`] describes), for a model with `N`
-/// states, in a workspace of arrays (nine vectors of `N` numbers, besides the
-/// settings, the step-size state and the counters).
+/// states and `E` events, listing up to `K` events per call, in a workspace of arrays
+/// (sixteen vectors of `N` numbers, with the continuous extension events are located
+/// on, eleven of `E`, and `2 K` states for the list, besides the settings, the
+/// step-size state and the counters).
+///
+/// Events ([`crate::event`]) are located on the continuous extension of the step that
+/// crossed; after an event the step-size control starts afresh (a new first step).
 #[derive(Clone, Debug)]
-pub struct DormandPrince<const N: usize> {
-    kernel: ExplicitRk<Arrays<N, 7>>,
+pub struct DormandPrince<const N: usize, const E: usize = 0, const K: usize = DEFAULT_CALL_EVENTS> {
+    kernel: ExplicitRk<Arrays<N, 7, N>>,
     options: DormandPrinceOptions,
     /// The step-size controller and the next step size, once a step has been taken.
     adaptive: Option<Adaptive>,
+    hybrid: Hybrid<N, E, K>,
     stats: Stats,
 }
 
-impl<const N: usize> DormandPrince<N> {
+impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
     /// An integrator with the tolerances and step-size control of `options`; fails with
     /// [`SolverError::InvalidOptions`] if a setting is out of range.
     pub fn new(options: DormandPrinceOptions) -> Result<Self, SolverError> {
@@ -187,6 +269,7 @@ impl<const N: usize> DormandPrince<N> {
             kernel: ExplicitRk::in_arrays(&DORMAND_PRINCE_5),
             options,
             adaptive: None,
+            hybrid: Hybrid::new(),
             stats: Stats::default(),
         })
     }
@@ -201,6 +284,29 @@ impl<const N: usize> DormandPrince<N> {
         self.stats
     }
 
+    /// Sets how later calls locate events and when they give up on chattering ones
+    /// ([`EventOptions`]; the defaults otherwise).
+    ///
+    /// # Errors
+    ///
+    /// An option is out of range ([`SolverError::InvalidOptions`]); the options are
+    /// then unchanged.
+    pub fn set_event_options(&mut self, options: EventOptions) -> Result<(), SolverError> {
+        options.validate()?;
+        self.hybrid.events.options = options;
+        Ok(())
+    }
+
+    /// The event options calls use.
+    pub fn event_options(&self) -> &EventOptions {
+        &self.hybrid.events.options
+    }
+
+    /// The events of the last call, in time order ([the module's events](self#events)).
+    pub fn events(&self) -> &CallEvents<N, K> {
+        &self.hybrid.log
+    }
+
     /// The size of the next step the controller will attempt; `None` before the first
     /// step and after [`DormandPrince::restart`], when the next call chooses one
     /// (`initial_step`, or the heuristic of Hairer, Nørsett & Wanner).
@@ -209,18 +315,22 @@ impl<const N: usize> DormandPrince<N> {
     }
 
     /// Forgets the step size and the controller's history, so that the next call starts
-    /// as the first did. For after a jump in the model's inputs or state that the
+    /// as the first did, and starts the events afresh (see [the module's
+    /// events](self#events)). For after a jump in the model's inputs or state that the
     /// learnt step size says nothing about (rejected steps would also find that out,
     /// at some cost).
     pub fn restart(&mut self) {
         self.adaptive = None;
+        self.hybrid.forget();
     }
 
     /// One accepted step from `(t, x)` towards `t_end`, never past it, with the
     /// step-size control of [`DormandPrince::advance_to`]. Attempts whose error is too
-    /// large are rejected and retried shorter. Fails if the step size falls below the
-    /// resolution of the time axis or a value is non-finite, or if `max_steps`
-    /// attempts do not produce an accepted step.
+    /// large are rejected and retried shorter. If an event fires in the step, the step
+    /// ends at the event (`t` its time, `x` the state after its action). Fails if the
+    /// step size falls below the resolution of the time axis or a value is non-finite,
+    /// or if `max_steps` attempts do not produce an accepted step, or as the events
+    /// fail.
     ///
     /// Like every call, it evaluates the derivatives at `(t, x)` afresh: stepping one
     /// step at a time costs one evaluation per step more than
@@ -239,7 +349,9 @@ impl<const N: usize> DormandPrince<N> {
     /// Integrates from `(t, x)` to `t_end` (`t` is then `t_end` exactly), with steps
     /// chosen so that each meets the tolerances; the last one ends on `t_end`. At most
     /// `max_steps` attempts per call. Each call evaluates the derivatives at `(t, x)`
-    /// afresh, so the model may have changed since the last one.
+    /// afresh, so the model may have changed since the last one. An event whose
+    /// action stops the run ends the call at its time (`t` is then the event's time,
+    /// `x` the state after it).
     pub fn advance_to<M: Model>(
         &mut self,
         model: &M,
@@ -260,34 +372,43 @@ impl<const N: usize> DormandPrince<N> {
         once: bool,
     ) -> Result<(), SolverError> {
         const { assert!(M::N_STATES == N, "N must be the model's N_STATES") };
+        const { assert!(M::EVENTS.len() == E, "E must be the model's EVENTS.len()") };
         check_span(*t, t_end)?;
         check_start::<M>(*t, x)?;
-        if *t == t_end {
-            return Ok(());
-        }
-        self.kernel.restart();
         let mut work = Stats::default();
-        let mut run = Run {
-            model,
-            kernel: &mut self.kernel,
-            t,
-            x,
-            stats: &mut work,
-        };
-        let result = adaptive_steps(&mut run, &mut self.adaptive, &self.options, t_end, once);
+        let result = self.hybrid.begin(model, *t, x, &mut work).and_then(|()| {
+            if *t == t_end {
+                return Ok(());
+            }
+            self.kernel.restart();
+            let mut run = Run {
+                model,
+                kernel: &mut self.kernel,
+                t: &mut *t,
+                x: &mut x[..],
+                stats: &mut work,
+            };
+            let (adaptive, hybrid) = (&mut self.adaptive, &mut self.hybrid);
+            adaptive_steps(&mut run, adaptive, &self.options, t_end, once, hybrid)
+        });
+        if result.is_ok() {
+            self.hybrid.finish(*t, x);
+        }
         self.stats.add(work);
         result
     }
 }
 
 /// Adaptive steps of `run` to `t_end` (or one step, if `once`), continuing with the
-/// step-size state in `adaptive` or, if there is none yet, starting it.
-fn adaptive_steps<M: Model, S: Storage>(
+/// step-size state in `adaptive` or, if there is none yet, starting it; the events of
+/// each step are handled by `hybrid` (after one, the step-size control starts afresh).
+fn adaptive_steps<M: Model, S: Storage, const N: usize, const E: usize, const K: usize>(
     run: &mut Run<'_, M, S>,
     adaptive: &mut Option<Adaptive>,
     options: &DormandPrinceOptions,
     t_end: f64,
     once: bool,
+    hybrid: &mut Hybrid<N, E, K>,
 ) -> Result<(), SolverError> {
     let a = match adaptive {
         Some(a) => {
@@ -297,7 +418,16 @@ fn adaptive_steps<M: Model, S: Storage>(
         None => adaptive.insert(run.start_adaptive(options)?),
     };
     loop {
-        run.adaptive_step(a, t_end, |_| false)?;
+        let t_a = *run.t;
+        // Locating an event needs the step's continuous extension.
+        run.adaptive_step(a, t_end, |_| E > 0)?;
+        let (model, kernel) = (run.model, &mut *run.kernel);
+        match hybrid.after_dense_step(model, kernel, t_a, run.t, run.x, run.stats)? {
+            None => {}
+            Some(EventAction::Stop) => return Ok(()),
+            // Nothing carries across an event: a new first step, a new controller.
+            Some(EventAction::Continue) => *a = run.start_adaptive(options)?,
+        }
         if once || *run.t >= t_end {
             return Ok(());
         }
