@@ -26,6 +26,10 @@
 #![no_std]
 #![warn(missing_docs)]
 
+mod ball;
+
+pub use ball::{BallDrop, BallIntegrator, BouncingBall, BouncingBallParams, BouncingBallState};
+
 use bgdsl_runtime::rk::Rk4;
 use bgdsl_runtime::{bond_graph, FixedStep, Model, SolverError, WithInputs};
 
