@@ -16,12 +16,40 @@
 //! integrator carries over only the step size it has learnt. Failures are
 //! [`SolverError`]s; on error `t` and `x` hold the last point reached.
 //!
-//! They do not handle events ([`Model::EVENTS`]): they integrate a model's modes as
-//! the constants they are between events, but neither detect nor locate crossings nor
-//! apply actions. A host on these integrators evaluates
-//! [`Model::event_indicators`] between its calls itself; the std driver
-//! ([`Simulation`](crate::Simulation), [`Stepper`](crate::Stepper)) handles events
-//! fully.
+//! # Events
+//!
+//! They handle a model's events ([`crate::event`]) as the std driver does, with the
+//! same code (its event bookkeeping, here in arrays): after every step the
+//! indicators are checked; a crossing is located by re-taking the step shortened
+//! ([`Rk4`]) or on the step's continuous extension ([`DormandPrince`]) to
+//! [`EventOptions::time_tolerance`]; simultaneous events are handled in index order;
+//! the action rewrites `x` and the method restarts from there (a fixed grid resumes on
+//! its next point; the adaptive step-size control starts afresh). An action that
+//! stops ends the call at the event's time, with `t` and `x` there (the state after
+//! it). The same event times come out as from the driver with the same settings.
+//! [`EventOptions`] (`set_event_options`) and the chattering rule bound every call.
+//!
+//! The number of events is a second const generic, `E`, checked at compile time
+//! against `M::EVENTS.len()` like `N` against `N_STATES` (a model without events
+//! takes the default, 0): `Rk4::<{ Ball::N_STATES }, { Ball::EVENTS.len() }>`. A
+//! third, `K` (default [`DEFAULT_CALL_EVENTS`]), is the room for the events of one
+//! call, listed with the state on both sides of each by `events()`
+//! ([`CallEvents`]); more are handled all the same and counted
+//! ([`CallEvents::dropped`]). A fixed bound instead of `E` would cost every model
+//! the largest one's memory, and be a limit a model could exceed at run time.
+//!
+//! A call that starts exactly where the last one ended (the same `t` and `x`, bit for
+//! bit) continues its events, as a [`Stepper`](crate::Stepper)'s advances do: an
+//! event armed by a bounce at the very end of the call stays armed, and the
+//! chattering counters run on. A call from any other point (a state the host has
+//! set) starts them afresh, with no event at its start; so does the next call after
+//! `restart_events` ([`Rk4`]) or `restart` ([`DormandPrince`]). As with the
+//! `Stepper`, a crossing the host causes between calls by changing an input or a
+//! parameter does not fire: the references are taken again at the start of each call.
+//!
+//! Handling events allocates nothing either; it costs ten numbers per event, six
+//! state vectors, the list's `K` events with two states each, and for
+//! [`DormandPrince`] the continuous extension's five state vectors.
 //!
 //! ```
 //! use bgdsl_runtime::rk::{DormandPrince, Rk4};
@@ -57,6 +85,81 @@
 //! assert!((x[0] - (-1.0f64).exp()).abs() < 1e-7);
 //! # Ok::<(), bgdsl_runtime::SolverError>(())
 //! ```
+//!
+//! A ball dropped from 1 m onto a floor, rebounding with 0.9 of its impact speed: the
+//! first impact at `√(2 / g)`, the second `2 · 0.9 · √(2 / g)` later.
+//!
+//! ```
+//! use bgdsl_runtime::rk::DormandPrince;
+//! use bgdsl_runtime::{
+//!     Direction, DormandPrinceOptions, EventAction, EventInfo, Model, Scalar,
+//! };
+//!
+//! struct Ball;
+//! impl Model for Ball {
+//!     type Params = ();
+//!     const NAME: &'static str = "ball";
+//!     const STATE_NAMES: &'static [&'static str] = &["h", "v"];
+//!     const OUTPUT_NAMES: &'static [&'static str] = &[];
+//!     const EVENTS: &'static [EventInfo] = &[EventInfo {
+//!         name: "floor",
+//!         direction: Direction::Falling,
+//!         doc: "",
+//!     }];
+//!     fn params(&self) -> &() { &() }
+//!     fn initial_state(&self, x0: &mut [f64]) { x0.copy_from_slice(&[1.0, 0.0]) }
+//!     fn derivatives<T: Scalar>(&self, _t: f64, x: &[T], dx: &mut [T]) {
+//!         dx[0] = x[1];
+//!         dx[1] = T::from_f64(-9.81);
+//!     }
+//!     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+//!     fn event_indicators(&self, _t: f64, x: &[f64], g: &mut [f64]) { g[0] = x[0] }
+//!     fn apply_event(&self, _i: usize, _t: f64, x: &mut [f64]) -> EventAction {
+//!         x[1] *= -0.9;
+//!         EventAction::Continue
+//!     }
+//! }
+//!
+//! let mut dopri = DormandPrince::<2, 1>::new(DormandPrinceOptions::default())?;
+//! let (mut t, mut x) = (0.0, [1.0, 0.0]);
+//! dopri.advance_to(&Ball, &mut t, &mut x, 1.5)?;
+//! let t1 = (2.0 / 9.81f64).sqrt();
+//! let times = dopri.events().times();
+//! assert_eq!(times.len(), 2);
+//! assert!((times[0] - t1).abs() < 1e-9);
+//! assert!((times[1] - (t1 + 1.8 * t1)).abs() < 1e-9);
+//! # Ok::<(), bgdsl_runtime::SolverError>(())
+//! ```
+//!
+//! An integrator whose `E` is not the model's number of events does not compile:
+//!
+//! ```compile_fail
+//! # use bgdsl_runtime::rk::Rk4;
+//! # use bgdsl_runtime::{Direction, EventInfo, FixedStep, Model, Scalar};
+//! # struct Ball;
+//! # impl Model for Ball {
+//! #     type Params = ();
+//! #     const NAME: &'static str = "ball";
+//! #     const STATE_NAMES: &'static [&'static str] = &["h", "v"];
+//! #     const OUTPUT_NAMES: &'static [&'static str] = &[];
+//! #     const EVENTS: &'static [EventInfo] = &[EventInfo {
+//! #         name: "floor",
+//! #         direction: Direction::Falling,
+//! #         doc: "",
+//! #     }];
+//! #     fn params(&self) -> &() { &() }
+//! #     fn initial_state(&self, x0: &mut [f64]) { x0.copy_from_slice(&[1.0, 0.0]) }
+//! #     fn derivatives<T: Scalar>(&self, _t: f64, x: &[T], dx: &mut [T]) {
+//! #         dx[0] = x[1];
+//! #         dx[1] = T::from_f64(-9.81);
+//! #     }
+//! #     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+//! # }
+//! // `Rk4::<2>` is `Rk4::<2, 0>`: no room for the ball's event.
+//! let mut rk4 = Rk4::<2>::new(FixedStep::new(0.01)).unwrap();
+//! let (mut t, mut x) = (0.0, [1.0, 0.0]);
+//! rk4.advance_to(&Ball, &mut t, &mut x, 1.0).unwrap();
+//! ```
 
 mod events;
 
@@ -76,8 +179,8 @@ pub const DEFAULT_CALL_EVENTS: usize = 4;
 
 /// The classical fourth-order Runge–Kutta method with a fixed step, for a model with
 /// `N` states and `E` events, listing up to `K` events per call, in a workspace of
-/// arrays (seven vectors of `N` numbers, eleven of `E`, and `2 K` states for the list,
-/// besides the settings and counters).
+/// arrays (twelve vectors of `N` numbers, ten of `E`, and the list's `K` events with
+/// two states each, besides the settings and counters).
 ///
 /// Events ([`crate::event`]) are located by re-taking the step that crossed from its
 /// start with a shortened length; after an event the grid resumes (the next step ends
@@ -244,9 +347,9 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
 /// Dormand–Prince 5(4) with adaptive step-size control (the method and PI controller of
 /// Hairer's DOPRI5, as [`DormandPrinceOptions`] describes), for a model with `N`
 /// states and `E` events, listing up to `K` events per call, in a workspace of arrays
-/// (sixteen vectors of `N` numbers, with the continuous extension events are located
-/// on, eleven of `E`, and `2 K` states for the list, besides the settings, the
-/// step-size state and the counters).
+/// (twenty vectors of `N` numbers, with the continuous extension events are located
+/// on, ten of `E`, and the list's `K` events with two states each, besides the
+/// settings, the step-size state and the counters).
 ///
 /// Events ([`crate::event`]) are located on the continuous extension of the step that
 /// crossed; after an event the step-size control starts afresh (a new first step).
