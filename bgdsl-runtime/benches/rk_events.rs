@@ -8,6 +8,12 @@
 //! `cargo bench -p bgdsl-runtime --bench rk_events` first prints a table (per method:
 //! the median wall time over 101 interleaved repetitions of the three runs, the cost
 //! per event, and the ratio to the driver), then times the runs with criterion.
+//!
+//! One run when this was written (2 cores shared with other builds, so noisy), the
+//! table's medians: RK4 free fall 30.7 µs, bouncing 38.7 µs, the driver 41.9 µs (0.4
+//! µs per event, 0.92 × the driver); DOPRI5 free fall 0.84 µs (a quadratic flight
+//! takes huge steps), bouncing 17.3 µs, the driver 20.9 µs (0.8 µs per event, 0.83 ×
+//! the driver).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
