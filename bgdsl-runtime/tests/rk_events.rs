@@ -248,7 +248,9 @@ mod should {
             allocations_in(|| rk4.advance_to(&ball, &mut t, &mut x, 10.0));
         assert_eq!(allocations, 0);
         let (mut t, mut x) = (0.0, start(&ball));
-        let dopri_error = dopri.advance_to(&ball, &mut t, &mut x, 10.0);
+        let (allocations, dopri_error) =
+            allocations_in(|| dopri.advance_to(&ball, &mut t, &mut x, 10.0));
+        assert_eq!(allocations, 0);
         for (name, error, stats) in [
             ("rk4", rk4_error, rk4.stats()),
             ("dopri5", dopri_error, dopri.stats()),
