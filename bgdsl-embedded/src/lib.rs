@@ -7,6 +7,10 @@
 //! [`MotorDrive`], which holds the motor's time and state in arrays and integrates them
 //! with the fixed-step RK4 of [`bgdsl_runtime::rk`] from one tick of a control loop to
 //! the next, with the supply voltage and load torque the loop sets held over the tick.
+//! It also defines a bouncing ball with events ([`BouncingBall`]: a `when` impact and
+//! a `resting` mode), which [`BallDrop`] follows tick by tick with the adaptive
+//! Dormand–Prince of [`bgdsl_runtime::rk`], impacts located and handled inside each
+//! tick.
 //!
 //! ```
 //! use bgdsl_embedded::{MotorDrive, MotorInputs, MotorParams, SUBSTEP};
@@ -25,6 +29,10 @@
 //! ```
 #![no_std]
 #![warn(missing_docs)]
+
+mod ball;
+
+pub use ball::{BallDrop, BallIntegrator, BouncingBall, BouncingBallParams, BouncingBallState};
 
 use bgdsl_runtime::rk::Rk4;
 use bgdsl_runtime::{bond_graph, FixedStep, Model, SolverError, WithInputs};

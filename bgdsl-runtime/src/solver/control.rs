@@ -41,7 +41,6 @@ pub(crate) struct Grid {
 impl Grid {
     /// Takes back the grid point a step ended on, when an event cut that step short:
     /// the next step ends on it again.
-    #[cfg(feature = "std")]
     pub fn step_back(&mut self) {
         self.k -= 1;
     }
@@ -78,19 +77,11 @@ pub(crate) struct Adaptive {
 }
 
 impl<M: Model, S: Storage> Run<'_, M, S> {
-    /// Fixed steps on `grid` from the current time to `ts`: a step that would pass `ts`
-    /// is shortened to end on it, and a grid point within `1e-9` steps (or `8 ε |ts|`)
-    /// of `ts` is taken to be `ts`. Fails at the first non-finite value, or when the
-    /// budget of accepted steps runs out.
-    pub fn fixed_steps_to(&mut self, grid: &mut Grid, ts: f64) -> Result<(), SolverError> {
-        while *self.t < ts {
-            self.fixed_step(grid, ts)?;
-        }
-        Ok(())
-    }
-
-    /// One step of [`Run::fixed_steps_to`] (the current time is before `ts`). Returns
-    /// whether it ended on a grid point (and moved the grid on past it).
+    /// One fixed step on `grid` from the current time towards `ts` (which is later): a
+    /// step that would pass `ts` is shortened to end on it, and a grid point within
+    /// `1e-9` steps (or `8 ε |ts|`) of `ts` is taken to be `ts`. Returns whether it
+    /// ended on a grid point (and moved the grid on past it). Fails at the first
+    /// non-finite value, or when the budget of accepted steps runs out.
     pub fn fixed_step(&mut self, grid: &mut Grid, ts: f64) -> Result<bool, SolverError> {
         let h = grid.h;
         // A grid point this close to a sample time is the sample time.

@@ -4,7 +4,7 @@
 //! reuse) the driver calls one accepted step at a time.
 
 use super::control::{Grid, Run};
-use super::events::Events;
+use super::events::{Events, HeapEvents};
 use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
 use super::stats::Stats;
@@ -68,7 +68,7 @@ pub struct Simulation<'m, M: Model> {
     y: Vec<f64>,
     stats: Stats,
     /// The event bookkeeping (inactive for a model without events).
-    events: Events,
+    events: Events<HeapEvents>,
     /// The state at the start of the last step (fixed-step methods re-take the step
     /// from it to locate an event).
     x_start: Vec<f64>,
@@ -607,25 +607,8 @@ impl<'m, M: Model> Simulation<'m, M> {
         let t_b = self.t;
         let (events, stats) = (&mut self.events, &mut self.stats);
         let t_star = if refit {
-            let (kernel, x_a) = (explicit(&mut self.kernel), &self.x_start);
-            let n_rhs = &mut stats.n_rhs;
-            // `f(t_a, x_a)`, evaluated once: an attempt leaves the first stage alone.
-            kernel.restart();
-            let mut prepared = false;
-            let restep = |t: f64, out: &mut [f64]| {
-                if !prepared {
-                    kernel
-                        .prepare(model, t_a, x_a, n_rhs)
-                        .map_err(non_finite::<M>)?;
-                    prepared = true;
-                }
-                kernel
-                    .attempt(model, t_a, t, x_a, n_rhs)
-                    .map_err(non_finite::<M>)?;
-                out.copy_from_slice(kernel.x_new());
-                Ok(())
-            };
-            events.locate(model, t_a, t_b, restep, &mut stats.n_event_fn)?
+            let kernel = explicit(&mut self.kernel);
+            events.locate_by_restep(model, kernel, t_a, &self.x_start, t_b, stats)?
         } else {
             let kernel = &self.kernel;
             let dense = |t: f64, out: &mut [f64]| {
@@ -640,14 +623,15 @@ impl<'m, M: Model> Simulation<'m, M> {
             *next += 1;
         }
         self.t = t_star;
-        self.x.copy_from_slice(&self.events.x_event);
         let model = self.model.get();
-        let action = self
-            .events
-            .apply(model, t_star, &mut self.x, recorder, &mut self.stats)?;
-        // Also before a stop: a stepper's next advance continues from here.
-        self.events
-            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
+        // Rearmed also before a stop: a stepper's next advance continues from here.
+        let action = self.events.fire(
+            model,
+            t_star,
+            &mut self.x,
+            |record| recorder.event(record),
+            &mut self.stats,
+        )?;
         if action == EventAction::Stop {
             let mut recorded = false;
             while *next < n && samples.get(*next) <= t_star {

@@ -63,15 +63,16 @@ impl Storage for Heap {
     type Dense = Vec<f64>;
 }
 
-/// Arrays for `N` states and `S` stages, without dense output: the storage of the
+/// Arrays for `N` states and `S` stages, with dense-output coefficients of `D`
+/// numbers (`N` to keep the continuous extension, 0 to keep none): the storage of the
 /// integrators of [`crate::rk`].
 #[derive(Clone, Debug)]
-pub(crate) struct Arrays<const N: usize, const S: usize>;
+pub(crate) struct Arrays<const N: usize, const S: usize, const D: usize>;
 
-impl<const N: usize, const S: usize> Storage for Arrays<N, S> {
+impl<const N: usize, const S: usize, const D: usize> Storage for Arrays<N, S, D> {
     type Vector = [f64; N];
     type Stages = [[f64; N]; S];
-    type Dense = [f64; 0];
+    type Dense = [f64; D];
 }
 
 /// Workspace and state of the explicit RK kernel, in storage `S`. All buffers are made
@@ -113,13 +114,18 @@ impl ExplicitRk<Heap> {
     }
 }
 
-impl<const N: usize, const S: usize> ExplicitRk<Arrays<N, S>> {
-    /// A kernel for `tableau`, which must have `S` stages, and `N` states, in arrays. It
-    /// keeps no dense output: [`ExplicitRk::accept`] must be told `dense = false`.
+impl<const N: usize, const S: usize, const D: usize> ExplicitRk<Arrays<N, S, D>> {
+    /// A kernel for `tableau`, which must have `S` stages, and `N` states, in arrays.
+    /// With `D = N` it keeps the continuous extension of a tableau that has one; with
+    /// `D = 0` none ([`ExplicitRk::accept`] must then be told `dense = false`).
     pub const fn in_arrays(tableau: &'static Tableau) -> Self {
         assert!(
             tableau.stages() == S,
             "the stage storage does not match the tableau"
+        );
+        assert!(
+            D == 0 || D == N,
+            "dense storage is for no state or every state"
         );
         ExplicitRk {
             tableau,
@@ -127,7 +133,7 @@ impl<const N: usize, const S: usize> ExplicitRk<Arrays<N, S>> {
             stage: [0.0; N],
             x_new: [0.0; N],
             k1_valid: false,
-            dense: [[]; 5],
+            dense: [[0.0; D]; 5],
             dense_t: 0.0,
             dense_h: 0.0,
         }
@@ -197,7 +203,6 @@ impl<S: Storage> ExplicitRk<S> {
     }
 
     /// The solution proposed by the last attempted step.
-    #[cfg(feature = "std")]
     pub fn x_new(&self) -> &[f64] {
         self.x_new.as_ref()
     }
@@ -269,7 +274,6 @@ impl<S: Storage> ExplicitRk<S> {
 
     /// Writes the continuous extension of the last step accepted with `dense = true` at
     /// time `t` (within that step) into `out`.
-    #[cfg(feature = "std")]
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
         let theta = (t - self.dense_t) / self.dense_h;
         let theta1 = 1.0 - theta;

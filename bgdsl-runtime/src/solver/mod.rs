@@ -26,8 +26,7 @@
 pub(crate) mod control;
 #[cfg(feature = "std")]
 mod driver;
-#[cfg(feature = "std")]
-mod events;
+pub(crate) mod events;
 pub(crate) mod explicit;
 mod options;
 mod stats;
