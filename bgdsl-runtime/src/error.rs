@@ -168,6 +168,32 @@ pub enum SolverError {
     /// shorter steps, as for any non-finite value, and gives the model's error if the
     /// step size underflows.
     InvalidModel(crate::model::ModelError),
+    /// An event kept firing: [`EventOptions::max_repeats`](crate::EventOptions::max_repeats)
+    /// times in a row, each within
+    /// [`EventOptions::min_interval`](crate::EventOptions::min_interval) of its previous
+    /// firing, or again at a time that cannot be told apart from its previous firing.
+    /// Zeno behaviour (a ball bouncing ever faster) or an action that leaves the state
+    /// where the event fires again: the model needs a rest or stick mode.
+    Chattering {
+        /// The event's name ([`EventInfo::name`](crate::EventInfo::name)).
+        event: &'static str,
+        /// The time of its last firing.
+        t: f64,
+        /// Its firings in a row counted as repeats.
+        count: usize,
+        /// The time since its previous firing, s (0 when it could not be resolved).
+        interval: f64,
+    },
+    /// A run handled more than [`EventOptions::max_events`](crate::EventOptions::max_events)
+    /// events.
+    TooManyEvents {
+        /// The event that went over the limit.
+        event: &'static str,
+        /// Its time.
+        t: f64,
+        /// The limit.
+        limit: usize,
+    },
 }
 
 /// Which value was non-finite in [`SolverError::NonFiniteState`].
@@ -364,6 +390,27 @@ impl fmt::Display for SolverError {
                 write!(f, "stopped on request after the sample at t = {}", Num(*t))
             }
             SolverError::InvalidModel(error) => write!(f, "{error}"),
+            SolverError::Chattering {
+                event,
+                t,
+                count,
+                interval,
+            } => write!(
+                f,
+                "at t = {}, event `{event}` chattered: it fired {count} times in a row, the \
+                 last {} s after the one before; the model switches ever faster (Zeno \
+                 behaviour, or an action that leaves the state where the event fires \
+                 again): give it a rest or stick mode that ends the switching, or widen \
+                 `EventOptions::min_interval` / `max_repeats` if the switching is real",
+                Num(*t),
+                Num(*interval)
+            ),
+            SolverError::TooManyEvents { event, t, limit } => write!(
+                f,
+                "at t = {}, event `{event}` went over the limit of {limit} events in one \
+                 run: raise `EventOptions::max_events`, or shorten the run",
+                Num(*t)
+            ),
         }
     }
 }

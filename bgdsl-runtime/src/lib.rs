@@ -30,6 +30,7 @@ extern crate self as bgdsl_runtime;
 pub mod dot;
 pub mod dual;
 pub mod error;
+pub mod event;
 pub mod graph;
 pub mod implicit;
 #[cfg(feature = "std")]
@@ -58,6 +59,9 @@ pub use dual::{Dual, DualN};
 #[cfg(feature = "std")]
 pub use error::{CsvError, CsvStage};
 pub use error::{NonFiniteKind, SampleTimeProblem, SolverError};
+pub use event::{
+    event_energy, Direction, EventAction, EventInfo, EventOptions, EventRecord, ModeInfo, ModeKind,
+};
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 #[cfg(feature = "std")]
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
@@ -65,7 +69,7 @@ pub use model::{
     unit_of, InputInfo, Model, ModelError, ParameterInfo, PowerBalance, SignalInfo, WithInputs,
 };
 #[cfg(feature = "std")]
-pub use record::{Recorder, Trajectory};
+pub use record::{EventLog, Recorder, Trajectory};
 pub use scalar::Scalar;
 #[cfg(feature = "std")]
 pub use solver::{

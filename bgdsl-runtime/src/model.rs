@@ -1,5 +1,6 @@
 //! The contract between generated (or hand-written) models and the solvers.
 
+use crate::event::{EventAction, EventInfo, ModeInfo};
 use crate::graph::CausalGraph;
 use crate::scalar::Scalar;
 
@@ -151,6 +152,31 @@ pub trait Model {
     /// default (a model whose evaluations cannot fail this way) is `None`.
     fn evaluation_error(&self) -> Option<ModelError> {
         None
+    }
+
+    /// The model's events, in the order simultaneous ones are handled (see
+    /// [`crate::event`]). Empty for a model without any.
+    const EVENTS: &'static [EventInfo] = &[];
+
+    /// The discrete modes, in declaration order: the last `MODES.len()` entries of the
+    /// state vector, whose derivatives are exactly 0 (so every integrator holds them
+    /// constant between events; only [`Model::apply_event`] changes them).
+    const MODES: &'static [ModeInfo] = &[];
+
+    /// Writes `g_i(t, x)` for every event `i` into `g` (length `EVENTS.len()`): event `i`
+    /// fires when `g_i` crosses zero in [`EventInfo::direction`]. The default (no
+    /// events) writes nothing.
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        let _ = (t, x, g);
+    }
+
+    /// Applies event `index`'s action at time `t` to `x`: the state just before the
+    /// event, rewritten in place to the state after it (reinit of states, switch of
+    /// modes). Every right-hand side reads the values before the event (simultaneous
+    /// assignment). Returns whether the run goes on or stops there.
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction {
+        let _ = (index, t, x);
+        EventAction::Continue
     }
 }
 

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::{CsvError, CsvStage};
+use crate::event::{EventAction, EventRecord};
 use crate::model::Model;
 
 /// Receives the samples of a run, in time order.
@@ -25,6 +26,13 @@ pub trait Recorder {
     fn stop_requested(&self) -> bool {
         false
     }
+
+    /// Called at every event, after its action, before the samples that follow it (a
+    /// sample at exactly the event's time records the state after it). Does nothing,
+    /// by default.
+    fn event(&mut self, record: &EventRecord<'_>) {
+        let _ = record;
+    }
 }
 
 impl<F: FnMut(f64, &[f64], &[f64])> Recorder for F {
@@ -42,11 +50,15 @@ impl Recorder for () {
 ///
 /// Created with room for a number of samples, recording allocates nothing until that
 /// room is used up (it then grows like a `Vec`).
+///
+/// It also keeps the run's events ([`Trajectory::events`]), in room reserved with
+/// [`Trajectory::with_event_capacity`] (none by default; beyond it the log grows).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory {
     names: Vec<&'static str>,
     n_states: usize,
     columns: Vec<Vec<f64>>,
+    events: EventLog,
 }
 
 impl Trajectory {
@@ -62,7 +74,20 @@ impl Trajectory {
             names,
             n_states: M::N_STATES,
             columns,
+            events: EventLog::growing(M::N_STATES, 0),
         }
+    }
+
+    /// The same trajectory with room for `capacity` events, so that a run with at most
+    /// that many records them without allocating.
+    pub fn with_event_capacity(mut self, capacity: usize) -> Self {
+        self.events = EventLog::growing(self.n_states, capacity);
+        self
+    }
+
+    /// The events of the run(s) recorded, in time order.
+    pub fn events(&self) -> &EventLog {
+        &self.events
     }
 
     /// The number of samples recorded.
@@ -80,9 +105,10 @@ impl Trajectory {
         self.columns.iter().map(Vec::capacity).min().unwrap_or(0)
     }
 
-    /// Forgets the samples, keeping the memory.
+    /// Forgets the samples and events, keeping the memory.
     pub fn clear(&mut self) {
         self.columns.iter_mut().for_each(Vec::clear);
+        self.events.clear();
     }
 
     /// The column names: `t`, the states, the outputs.
@@ -201,6 +227,124 @@ impl Recorder for Trajectory {
         for (column, v) in self.columns.iter_mut().zip(values) {
             column.push(*v);
         }
+    }
+
+    /// Appends the event to [`Trajectory::events`].
+    fn event(&mut self, record: &EventRecord<'_>) {
+        self.events.push(record);
+    }
+}
+
+/// A log of events: for each, its time, index, name, action and the state on both
+/// sides, in storage reserved up front.
+///
+/// A log is either growing ([`Trajectory::events`]: beyond its capacity it grows like a
+/// `Vec`) or bounded ([`Stepper::events`](crate::Stepper::events): beyond its capacity
+/// it keeps the first events and counts the rest in [`EventLog::dropped`]), so that
+/// recording within capacity never allocates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventLog {
+    n_states: usize,
+    capacity: usize,
+    bounded: bool,
+    dropped: usize,
+    t: Vec<f64>,
+    index: Vec<usize>,
+    name: Vec<&'static str>,
+    action: Vec<EventAction>,
+    /// `before` then `after`, `2 * n_states` numbers per event.
+    states: Vec<f64>,
+}
+
+impl EventLog {
+    /// A log for states of `n_states` numbers with room for `capacity` events, growing
+    /// beyond it.
+    pub fn growing(n_states: usize, capacity: usize) -> Self {
+        EventLog {
+            n_states,
+            capacity,
+            bounded: false,
+            dropped: 0,
+            t: Vec::with_capacity(capacity),
+            index: Vec::with_capacity(capacity),
+            name: Vec::with_capacity(capacity),
+            action: Vec::with_capacity(capacity),
+            states: Vec::with_capacity(capacity * 2 * n_states),
+        }
+    }
+
+    /// A log with room for `capacity` events that keeps no more: later events are only
+    /// counted ([`EventLog::dropped`]).
+    pub fn bounded(n_states: usize, capacity: usize) -> Self {
+        EventLog {
+            bounded: true,
+            ..EventLog::growing(n_states, capacity)
+        }
+    }
+
+    /// Appends an event (or, full and bounded, counts it as dropped).
+    pub fn push(&mut self, record: &EventRecord<'_>) {
+        if self.bounded && self.t.len() >= self.capacity {
+            self.dropped += 1;
+            return;
+        }
+        self.t.push(record.t);
+        self.index.push(record.index);
+        self.name.push(record.name);
+        self.action.push(record.action);
+        let n = self.n_states;
+        self.states.extend_from_slice(&record.before[..n]);
+        self.states.extend_from_slice(&record.after[..n]);
+    }
+
+    /// Forgets the events (and the count of dropped ones), keeping the memory.
+    pub fn clear(&mut self) {
+        self.dropped = 0;
+        self.t.clear();
+        self.index.clear();
+        self.name.clear();
+        self.action.clear();
+        self.states.clear();
+    }
+
+    /// The number of events kept.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether no event is kept.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// The events a bounded log could not keep.
+    pub fn dropped(&self) -> usize {
+        self.dropped
+    }
+
+    /// Event number `i`.
+    pub fn get(&self, i: usize) -> Option<EventRecord<'_>> {
+        let t = *self.t.get(i)?;
+        let n = self.n_states;
+        let states = &self.states[2 * n * i..2 * n * (i + 1)];
+        Some(EventRecord {
+            t,
+            index: self.index[i],
+            name: self.name[i],
+            before: &states[..n],
+            after: &states[n..],
+            action: self.action[i],
+        })
+    }
+
+    /// The events in time order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = EventRecord<'_>> + '_ {
+        (0..self.len()).map(|i| self.get(i).expect("within the length"))
+    }
+
+    /// The event times.
+    pub fn times(&self) -> &[f64] {
+        &self.t
     }
 }
 

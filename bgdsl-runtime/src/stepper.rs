@@ -6,7 +6,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{NonFiniteKind, SampleTimeProblem, SolverError};
+use crate::event::{EventOptions, EventRecord};
 use crate::model::{Model, WithInputs};
+use crate::record::{EventLog, Recorder};
 use crate::solver::{Simulation, Solver, Stats};
 
 /// A model, its solver's workspace and where the integration stands.
@@ -40,7 +42,12 @@ pub struct Stepper<M: Model + 'static> {
     t: f64,
     x: Vec<f64>,
     y: Vec<f64>,
+    events: EventLog,
 }
+
+/// The events a stepper keeps per advance unless told otherwise
+/// ([`Stepper::set_event_capacity`]).
+const DEFAULT_EVENT_CAPACITY: usize = 64;
 
 impl<M: Model + 'static> core::fmt::Debug for Stepper<M> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -119,6 +126,7 @@ impl<M: Model + 'static> Stepper<M> {
             t: t0,
             x: vec![0.0; M::N_STATES],
             y: vec![0.0; M::N_OUTPUTS],
+            events: EventLog::bounded(M::N_STATES, DEFAULT_EVENT_CAPACITY),
         };
         stepper.set_state(t0, x0)?;
         Ok(stepper)
@@ -147,17 +155,49 @@ impl<M: Model + 'static> Stepper<M> {
                 problem,
             });
         }
+        self.events.clear();
         if t == self.t {
             self.refresh_outputs(t)?;
             return Ok(&self.y);
         }
-        let outputs = &mut self.y;
-        let mut keep_outputs = |_: f64, _: &[f64], y: &[f64]| outputs.copy_from_slice(y);
-        self.simulation
-            .run(self.t, &self.x, &[t], &mut keep_outputs)?;
+        let mut recorder = Keep {
+            outputs: &mut self.y,
+            events: &mut self.events,
+            stopped: false,
+        };
+        self.simulation.run(self.t, &self.x, &[t], &mut recorder)?;
+        let stopped = recorder.stopped;
         self.x.copy_from_slice(self.simulation.state());
-        self.t = t;
+        // A stop action ends the advance at the event's time, before `t`.
+        self.t = if stopped { self.simulation.time() } else { t };
         Ok(&self.y)
+    }
+
+    /// The events of the last [`Stepper::advance_to`], in time order, with the state on
+    /// both sides of each; kept in room reserved up front
+    /// ([`Stepper::set_event_capacity`], 64 by default), beyond which they are only
+    /// counted ([`EventLog::dropped`]).
+    ///
+    /// Events the host causes itself by changing inputs or parameters between advances
+    /// (a set point stepped across a switching threshold) are the host's to handle:
+    /// the indicators' references are taken afresh at the start of every advance, so
+    /// such a crossing does not fire.
+    pub fn events(&self) -> &EventLog {
+        &self.events
+    }
+
+    /// Reserves room for `capacity` events per advance (allocates; advancing does not).
+    pub fn set_event_capacity(&mut self, capacity: usize) {
+        self.events = EventLog::bounded(M::N_STATES, capacity);
+    }
+
+    /// Sets how advances locate events and when they give up on chattering ones.
+    ///
+    /// # Errors
+    ///
+    /// An option is out of range ([`SolverError::InvalidOptions`]).
+    pub fn set_event_options(&mut self, options: EventOptions) -> Result<(), SolverError> {
+        self.simulation.set_event_options(options)
     }
 
     /// The current time.
@@ -292,6 +332,24 @@ impl<M: WithInputs + 'static> Stepper<M> {
     pub fn advance_with(&mut self, t: f64, inputs: M::Inputs) -> Result<&[f64], SolverError> {
         self.set_inputs(inputs);
         self.advance_to(t)
+    }
+}
+
+/// What an advance keeps of its run: the outputs at its end and its events.
+struct Keep<'a> {
+    outputs: &'a mut [f64],
+    events: &'a mut EventLog,
+    stopped: bool,
+}
+
+impl Recorder for Keep<'_> {
+    fn record(&mut self, _t: f64, _x: &[f64], y: &[f64]) {
+        self.outputs.copy_from_slice(y);
+    }
+
+    fn event(&mut self, record: &EventRecord<'_>) {
+        self.events.push(record);
+        self.stopped |= record.action == crate::event::EventAction::Stop;
     }
 }
 

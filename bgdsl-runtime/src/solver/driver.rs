@@ -11,6 +11,7 @@ use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
 use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
+use crate::event::EventOptions;
 use crate::model::Model;
 use crate::record::{Recorder, Trajectory};
 
@@ -60,6 +61,7 @@ pub struct Simulation<'m, M: Model> {
     /// The outputs at a sample.
     y: Vec<f64>,
     stats: Stats,
+    event_options: EventOptions,
 }
 
 /// The model a simulation integrates: the caller's, borrowed, or its own.
@@ -237,6 +239,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             x_dense: vec![0.0; n],
             y: vec![0.0; M::N_OUTPUTS],
             stats: Stats::default(),
+            event_options: EventOptions::default(),
         })
     }
 
@@ -257,6 +260,24 @@ impl<'m, M: Model> Simulation<'m, M> {
     /// The solver and its settings.
     pub fn solver(&self) -> &Solver {
         &self.solver
+    }
+
+    /// Sets how later runs locate events and when they give up on chattering ones
+    /// ([`EventOptions`]; the defaults otherwise).
+    ///
+    /// # Errors
+    ///
+    /// An option is out of range ([`SolverError::InvalidOptions`]); the options are
+    /// then unchanged.
+    pub fn set_event_options(&mut self, options: EventOptions) -> Result<(), SolverError> {
+        options.validate()?;
+        self.event_options = options;
+        Ok(())
+    }
+
+    /// The event options runs use.
+    pub fn event_options(&self) -> &EventOptions {
+        &self.event_options
     }
 
     /// The time the last run reached: its last sample time, or where it failed.

@@ -33,6 +33,13 @@ pub struct Stats {
     /// [`LANES`](crate::jacobian::LANES) at a time on dual numbers; plus, for Rodas4, one
     /// `f64` evaluation for `∂f/∂t`.
     pub n_jac_rhs: usize,
+    /// Events handled: each firing of an event counts once, simultaneous ones each
+    /// (see [`crate::event`]).
+    pub events: usize,
+    /// Evaluations of [`Model::event_indicators`](crate::Model::event_indicators):
+    /// one after every accepted step, plus those spent locating events and restarting
+    /// after them (0 for a model without events).
+    pub n_event_fn: usize,
 }
 
 impl Stats {
@@ -50,5 +57,7 @@ impl Stats {
         self.n_lu += other.n_lu;
         self.n_lu_fallback += other.n_lu_fallback;
         self.n_jac_rhs += other.n_jac_rhs;
+        self.events += other.events;
+        self.n_event_fn += other.n_event_fn;
     }
 }
