@@ -92,6 +92,8 @@
 mod adapter;
 mod checks;
 mod columns;
+pub mod compare;
+mod events;
 mod figures;
 pub mod folder;
 mod params;
@@ -151,6 +153,12 @@ pub struct Entry {
     pub interval: f64,
     /// The solver a run uses unless told otherwise.
     pub solver: fn() -> Solver,
+    /// For a quick return model: outputs and states recorded by default into
+    /// `quick_return_extra.csv`, one chart each (empty: no such file).
+    pub extra: &'static [&'static str],
+    /// For a quick return model: the run its summary compares with (the same with
+    /// some parameters set), or `None`.
+    pub compare: Option<&'static compare::Compare>,
 }
 
 impl fmt::Debug for Entry {
@@ -284,6 +292,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: flagship_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid",
@@ -294,6 +304,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: rigid_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid_coupled",
@@ -304,6 +316,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: coupled_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "oscillator",
@@ -313,6 +327,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 10.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "rlc",
@@ -322,6 +338,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 0.01,
         interval: 1e-5,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_motor",
@@ -332,6 +350,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quarter_car",
@@ -341,6 +361,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 3.0,
         interval: 1e-3,
         solver: road_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "duffing",
@@ -350,6 +372,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 100.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_servo",
@@ -360,6 +384,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
 ];
 
