@@ -24,9 +24,10 @@
 //! constant modes.
 
 use bgdsl_runtime::bond_graph;
-use bgdsl_runtime::multibond::{box_inertia, diag3, vec3, Matrix3, Vector3};
+use bgdsl_runtime::multibond::{box_inertia, diag3, vec3};
 
-use crate::quick_return::{assembly, unwrapped_angle};
+use crate::quick_return::assembly;
+use crate::quick_return::model::unwrapped_angle;
 
 bond_graph! {
     /// A slide with Coulomb friction and stiction between ports `a` and `b` (point
@@ -62,7 +63,7 @@ bond_graph! {
         rel -> to_frame -> d -> { spring, damper, friction };
 
         /// stick: the slip velocity falls to zero
-        when (if stuck || mu_s <= 0.0 && mu <= 0.0 { 1.0 } else { d.f.x * dir }) < 0.0 {
+        when stick: (if stuck || mu_s <= 0.0 && mu <= 0.0 { 1.0 } else { d.f.x * dir }) < 0.0 {
             if mu_s > 0.0 {
                 stuck = true;
                 reinit spring.q = ::bgdsl_runtime::multibond::vec3(0.0, spring.q.y, spring.q.z);
@@ -71,7 +72,7 @@ bond_graph! {
             }
         }
         /// breakaway: the stick spring's force exceeds the static limit
-        when (if stuck {
+        when breakaway: (if stuck {
             spring.e.x * spring.e.x
                 - mu_s * mu_s * (spring.e.y * spring.e.y + spring.e.z * spring.e.z + 1e-18)
         } else { -1.0 }) > 0.0 {
@@ -266,6 +267,11 @@ bond_graph! {
         output u_3C = j3C.d.f.x in "m/s";
         /// Slip velocity of the output slider along its guide (X0)
         output u_5C = j5C.d.f.x in "m/s";
+        /// Mode of the rocker's slide: 0 stuck, +1 the slider slipping along X3
+        /// relative to the rocker, −1 against
+        output mode_3C = if j3C.stuck { 0.0 } else { j3C.dir } in "1";
+        /// Mode of the output slider's guide: 0 stuck, ±1 slipping along ±X0
+        output mode_5C = if j5C.stuck { 0.0 } else { j5C.dir } in "1";
         /// Power dissipated by kinetic friction in both slides
         output P_fric = j3C.friction.e.dot(&j3C.friction.f) + j5C.friction.e.dot(&j5C.friction.f) in "W";
         /// Power dissipated by the slides' viscous friction (the dampers' x entries)
