@@ -256,7 +256,6 @@ mod should {
     /// p(t) = F m / c + (p_on − F m / c) exp(−c (t − t_on) / m). DOPRI5 at rtol 1e-10
     /// and an event tolerance of 1e-12 s keep both within 1e-8.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn engage_a_brake_at_the_event_and_follow_the_braked_closed_form() {
         let model = Brake::default();
         let traj = simulate(&model, dopri5(1e-10, 1e-12), 2.0, 201);
@@ -278,7 +277,6 @@ mod should {
     /// DOPRI5 (order 5) and RK4 integrate exactly up to rounding, so the impact times
     /// carry only the location tolerance (1e-12 s) and rounding: 1e-9 s is generous.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn bounce_a_ball_at_the_closed_form_impact_times() {
         let model = Ball::default();
         let expected = impact_times(1.0, 9.81, 0.8, 6);
@@ -309,7 +307,6 @@ mod should {
     /// x = cos(2 t) crosses zero at t = (j + ½) π / 2: 6 times before 10 s, the last at
     /// 5.5 π / 2. The modes count them and keep the last time.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn count_crossings_in_an_integer_mode_and_keep_a_time_in_a_real_mode() {
         let model = Counter::default();
         let traj = simulate(&model, dopri5(1e-10, 1e-12), 10.0, 101);
@@ -326,7 +323,6 @@ mod should {
     /// From x = 0 at 1 m/s: the right wall at t = 1 s, the left at t = 3 s, the right
     /// again at t = 5 s; at t = 6 s the cart is back at x = 0.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn reinit_a_body_from_a_submodel_instance() {
         let model = Corridor::default();
         let traj = simulate(&model, Solver::rk4(0.01), 6.0, 61);
@@ -342,7 +338,6 @@ mod should {
     }
 
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn assign_simultaneously_from_pre_event_values() {
         let model = Swap::default();
         let mut x = initial_state(&model);
@@ -361,7 +356,6 @@ mod should {
 
     /// x = F t² / 2 reaches 1 m at t = √(2 / F) = 1 s: the run ends there.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn stop_the_run_at_the_event() {
         let model = Stopper::default();
         let mut x = initial_state(&model);

@@ -94,7 +94,7 @@ impl Model for Ball {
         if self.stop {
             return EventAction::Stop;
         }
-        x[1] = -self.e * x[1];
+        x[1] *= -self.e;
         EventAction::Continue
     }
 }
