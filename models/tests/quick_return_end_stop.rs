@@ -94,7 +94,11 @@ fn a_stop_beyond_the_stroke_is_never_reached() {
     for name in &models::quick_return::results::COLUMNS[1..] {
         let (a, b) = (flagship.column(name).unwrap(), with.column(name).unwrap());
         let peak = a.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-        let diff = a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let diff = a
+            .iter()
+            .zip(b)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         assert!(diff < 3e-5 * peak, "{name}: {diff} of peak {peak}");
     }
 }
