@@ -42,6 +42,13 @@
 //! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
 //!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
 //!   output against time);
+//! - for a model with events, `events.csv` (one row per state an event changed, with
+//!   the event's time, name, values before and after, and energy change; see the
+//!   private `events` module), and the summary counts the events by name and sums
+//!   their energy; the quick return's energy balance (Fig. 21) adds that energy;
+//! - for the flagship's hybrid variants, their own columns in `quick_return_extra.csv`
+//!   ([`Entry::extra`], one chart each) and, in the summary, the comparison with the
+//!   same run without the switching ([`Entry::compare`], [`compare`]);
 //! - `index.html`: the run's summary and every figure it drew, self-contained;
 //! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
 //!   sweep writes one too.

@@ -502,10 +502,11 @@ where
             &event_energies,
         ));
     }
-    if let Some(extra) = entry.compare {
+    // A partial run has nothing settled to compare (and an interrupt asked to stop).
+    if let (Some(compare), None) = (entry.compare, &failure) {
         summary.push_str(&super::compare::summary::<M>(
             entry,
-            extra,
+            compare,
             plan,
             results.as_ref(),
         ));
