@@ -479,6 +479,43 @@ pub fn lint(graph: &Graph, vocabulary: &crate::rewrite::Vocabulary, errors: &mut
         );
         crate::rewrite::lint(&mode.init, vocabulary, &[], &context, errors);
     }
+    initial_values_read_no_mode(graph, errors);
+}
+
+/// Initial values and parameter defaults are computed before any mode has a value.
+fn initial_values_read_no_mode(graph: &Graph, errors: &mut Errors) {
+    let initial = graph
+        .params
+        .iter()
+        .map(|p| &p.default)
+        .chain(graph.inits.iter().map(|i| &i.value))
+        .chain(graph.kinematics.iter().map(|k| &k.init))
+        .chain(graph.modes.iter().map(|m| &m.init));
+    for expr in initial {
+        struct Reads<'a>(&'a Graph, Vec<Ident>);
+        impl<'ast> syn::visit::Visit<'ast> for Reads<'_> {
+            fn visit_expr_path(&mut self, path: &'ast syn::ExprPath) {
+                if let Some(ident) = path.path.get_ident() {
+                    if self.0.modes.iter().any(|m| m.name == *ident) {
+                        self.1.push(ident.clone());
+                    }
+                }
+            }
+        }
+        let mut reads = Reads(graph, Vec::new());
+        syn::visit::Visit::visit_expr(&mut reads, expr);
+        for mode in reads.1 {
+            let shown = crate::flatten::display(&mode.to_string());
+            errors.at(
+                mode.span(),
+                format!(
+                    "mode `{shown}` has no value yet here: parameter defaults and initial \
+                     values are computed from parameters, before any mode is set\nhelp: use \
+                     the parameter or value that `{shown}` starts from"
+                ),
+            );
+        }
+    }
 }
 
 /// An event ready for code generation: its indicator and its actions in the terms of

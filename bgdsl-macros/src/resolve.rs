@@ -144,14 +144,21 @@ struct Resolver {
 impl Resolver {
     fn claim(&mut self, name: &Ident, what: Named) -> bool {
         let key = name.to_string();
-        if let Some((_, first)) = self.names.get(&key) {
+        if let Some((earlier, first)) = self.names.get(&key) {
+            let evented = [what, *earlier]
+                .iter()
+                .any(|n| matches!(n, Named::Mode | Named::Event));
+            let names = if evented {
+                "parameters, elements, junctions, states, modes, event labels and bond labels"
+            } else {
+                "parameters, elements, junctions, states and bond labels"
+            };
             self.poisoned.insert(key.clone());
             self.errors.with_note(
                 name.span(),
                 format!(
                     "the name `{name}` is declared twice\n\
-                     help: rename one of them: parameters, elements, junctions, states and \
-                     bond labels share one namespace"
+                     help: rename one of them: {names} share one namespace"
                 ),
                 first.span(),
                 format!("`{name}` is first declared here"),

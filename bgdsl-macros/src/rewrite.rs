@@ -603,17 +603,30 @@ impl Rewriter<'_, '_> {
 }
 
 impl Rewriter<'_, '_> {
-    /// Whether `expr` is an `i64` mode, read as a plain integer.
-    fn is_integer_mode(&self, expr: &Expr) -> bool {
-        as_ident(expr).is_some_and(|name| {
-            !self.locals.contains(&name.to_string())
-                && self
-                    .scope
-                    .graph
-                    .modes
-                    .iter()
-                    .any(|m| m.name == *name && m.kind == crate::events::ModeKind::Integer)
-        })
+    /// Whether `expr` is an integer made of `i64` modes: a mode, or arithmetic, a
+    /// parenthesis or a negation with one among its operands (`gear * 2 + 1`).
+    fn is_integer(&self, expr: &Expr) -> bool {
+        use syn::BinOp::*;
+        match expr {
+            Expr::Paren(inner) => self.is_integer(&inner.expr),
+            Expr::Group(inner) => self.is_integer(&inner.expr),
+            Expr::Unary(unary) => {
+                matches!(unary.op, syn::UnOp::Neg(_)) && self.is_integer(&unary.expr)
+            }
+            Expr::Binary(binary) => {
+                matches!(binary.op, Add(_) | Sub(_) | Mul(_) | Div(_) | Rem(_))
+                    && (self.is_integer(&binary.left) || self.is_integer(&binary.right))
+            }
+            _ => as_ident(expr).is_some_and(|name| {
+                !self.locals.contains(&name.to_string())
+                    && self
+                        .scope
+                        .graph
+                        .modes
+                        .iter()
+                        .any(|m| m.name == *name && m.kind == crate::events::ModeKind::Integer)
+            }),
+        }
     }
 }
 
@@ -741,10 +754,10 @@ impl Rewriter<'_, '_> {
                         | MulAssign(_)
                         | DivAssign(_)
                 );
-                // An `i64` mode compares and adds with integers as written.
+                // Arithmetic on an `i64` mode keeps its integers as written.
                 let integer = [&*binary.left, &*binary.right]
                     .iter()
-                    .any(|side| self.is_integer_mode(side));
+                    .any(|side| self.is_integer(side));
                 if numeric && !integer {
                     int_to_float(&mut binary.left);
                     int_to_float(&mut binary.right);

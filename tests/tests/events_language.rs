@@ -73,6 +73,7 @@ bond_graph! {
             last = t;
         }
         output third = if count >= 3 { 1.0 } else { 0.0 };
+        output odd = if (count * 3 + 1) % 2 == 0 { 1.0 } else { 0.0 };
         output since = t - last;
     }
 }
@@ -122,15 +123,45 @@ bond_graph! {
         }
     }
 
-    /// A mass pushed from rest by a constant force; the run stops when it has moved 1 m.
+    /// A mass pushed from rest by a constant force; the run stops when it has moved 1 m
+    /// (a threshold written as a parameter expression, which the model caches).
     pub model Stopper {
         param force = 2.0;
+        param half = 0.5;
         Se push = force;
         I mass = 1.0;
         push -> mass;
         state x: f64 = 0.0;
         der x = mass.f;
-        when x > 1.0 { stop; }
+        when x > (2.0 * half).sqrt() { stop; }
+    }
+}
+
+bond_graph! {
+    /// A capacitor charged from a source through two resistors in series (an algebraic
+    /// loop, solved at every evaluation); when its voltage passes `level` a mode
+    /// lowers the second resistance.
+    #[allow(algebraic_loops)]
+    pub model Charger {
+        param e1 = 1.0;
+        param r_1 = 1.0;
+        param r_2 = 2.0;
+        param r_fast = 0.5;
+        param c = 0.1;
+        param level = 0.5;
+
+        Se source = e1;
+        R r1 = r_1;
+        R r2 = if fast { r_fast } else { r_2 };
+        C cap = 1.0 / c;
+        1 current;
+        0 node;
+        source -> current -> { r1, r2, node };
+        node -> cap;
+
+        mode fast: bool = false;
+        when node.e > level { fast = true; }
+        output e2 = node.e;
     }
 }
 
@@ -252,6 +283,35 @@ mod should {
         assert_eq!(g, [0.5 - 0.3]);
     }
 
+    /// The Jacobian by automatic differentiation is exact in each mode: ∂(dp/dt)/∂p is
+    /// 0 with the brake off and −c/m = −2 /s with it on, and nothing depends on the mode's
+    /// entry (a law reads it as a plain value). Radau5, which uses this Jacobian, follows
+    /// the braked closed form across the event to 1e-7 at rtol 1e-10.
+    #[test]
+    fn differentiate_each_mode_exactly_and_switch_under_a_stiff_solver() {
+        use bgdsl_runtime::{JacobianEvaluator, Radau5Options};
+        let model = Brake::default();
+        let mut evaluator = JacobianEvaluator::new(&model);
+        let mut jac = [f64::NAN; 4];
+        evaluator.evaluate(&model, 0.0, &[1.0, 0.0], &mut jac);
+        assert_eq!(jac, [0.0, 0.0, 0.0, 0.0]);
+        evaluator.evaluate(&model, 0.0, &[1.0, 1.0], &mut jac);
+        assert_eq!(jac, [-4.0 / 2.0, 0.0, 0.0, 0.0]);
+        let radau = Solver::Radau5(Radau5Options {
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Default::default()
+        });
+        let traj = simulate(&model, radau, 2.0, 201);
+        let t_on = 2.0 * 0.3 / 1.0;
+        assert_eq!(traj.events().len(), 1);
+        assert!((traj.events().times()[0] - t_on).abs() < 1e-8);
+        let (p_on, p_inf) = (2.0 * 0.3, 1.0 * 2.0 / 4.0);
+        let exact = p_inf + (p_on - p_inf) * (-4.0 * (2.0 - t_on) / 2.0f64).exp();
+        let p_end = traj.value(traj.len() - 1, "mass.p").unwrap();
+        assert!((p_end - exact).abs() < 1e-7, "{p_end} vs {exact}");
+    }
+
     /// The brake engages at t_on = m v_on / F = 0.6 s (p = F t before); after it,
     /// p(t) = F m / c + (p_on − F m / c) exp(−c (t − t_on) / m). DOPRI5 at rtol 1e-10
     /// and an event tolerance of 1e-12 s keep both within 1e-8.
@@ -318,6 +378,14 @@ mod should {
         assert!((traj.value(last, "last").unwrap() - t_last).abs() < 1e-8);
         assert_eq!(traj.value(last, "third"), Some(1.0));
         assert_eq!(traj.value(0, "third"), Some(0.0));
+        // 3 n + 1 is even exactly when n is odd: not at the start (0) nor the end (6),
+        // but after the first crossing.
+        assert_eq!(traj.value(0, "odd"), Some(0.0));
+        assert_eq!(traj.value(last, "odd"), Some(0.0));
+        let first = events.get(0).unwrap();
+        let mut y = [0.0; 3];
+        model.outputs(first.t, first.after, &mut y);
+        assert_eq!(y[1], 1.0);
     }
 
     /// From x = 0 at 1 m/s: the right wall at t = 1 s, the left at t = 3 s, the right
@@ -352,6 +420,29 @@ mod should {
         assert_eq!(traj.value(last, "a.p"), Some(2.0));
         assert_eq!(traj.value(last, "b.p"), Some(1.0));
         assert_eq!(traj.value(last, "flag"), Some(1.0));
+    }
+
+    /// Before the switch e2 = e1 (1 − exp(−t / τ₁)) with τ₁ = (r₁ + r₂) c = 0.3 s, so
+    /// it passes 0.5 V at t_on = τ₁ ln 2; after it, e2 = e1 − (e1 − 0.5) exp(−(t −
+    /// t_on) / τ₂) with τ₂ = (r₁ + r_fast) c = 0.15 s. DOPRI5 at rtol 1e-10 and the
+    /// loop solved to rounding keep both within 1e-8.
+    #[test]
+    fn switch_a_mode_in_a_model_with_an_algebraic_loop() {
+        let model = Charger::default();
+        assert_eq!(Charger::STATE_NAMES, ["cap.q", "fast"]);
+        let traj = simulate(&model, dopri5(1e-10, 1e-12), 1.0, 101);
+        assert_eq!(traj.events().len(), 1);
+        let t_on = 0.3 * 2.0f64.ln();
+        let event = traj.events().get(0).unwrap();
+        assert!((event.t - t_on).abs() < 1e-8, "{} vs {t_on}", event.t);
+        assert_eq!((event.before[1], event.after[1]), (0.0, 1.0));
+        let last = traj.len() - 1;
+        let exact = 1.0 - 0.5 * (-(1.0 - t_on) / 0.15f64).exp();
+        let e2 = traj.value(last, "e2").unwrap();
+        assert!((e2 - exact).abs() < 1e-8, "{e2} vs {exact}");
+        let mut g = [0.0];
+        model.event_indicators(0.0, &[0.08, 0.0], &mut g);
+        assert!((g[0] - (0.8 - 0.5)).abs() < 1e-12, "{g:?}");
     }
 
     /// x = F t² / 2 reaches 1 m at t = √(2 / F) = 1 s: the run ends there.
