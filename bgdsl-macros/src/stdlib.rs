@@ -168,7 +168,7 @@ pub const TEXT: &str = r#"
     /// (a ball's weight `m * g`); the body rests only if that force pushes away from
     /// the stop, `dir · held > 0`, where `dir` is +1 when the gap opens as `at` moves
     /// positively and -1 otherwise; it lifts off when `dir · held` falls through 0
-    /// (event `lift`). `v_rest = 0` never rests (a run of ever shorter bounces then ends
+    /// (event `lift`, watched only while resting). `v_rest = 0` never rests (a run of ever shorter bounces then ends
     /// with the runtime's chattering error).
     submodel Impact(at, body, gap, dir, restitution, v_rest = 0.0, held = 0.0) {
         /// at rest on the stop
@@ -195,7 +195,8 @@ pub const TEXT: &str = r#"
     /// spring's deflection `spring.q` is set to `dir · gap` (≈ 0): in contact it is the
     /// displacement of `at` from the stop's surface and the force on `at` is
     /// `-(k q + c v)`. It ends when that force would pull, `dir (k spring.q + c at.f)`
-    /// rising through 0 (event `release`): a contact only pushes. `dir` is +1 when the
+    /// rising through 0 (event `release`, watched only in contact): a contact only
+    /// pushes. `dir` is +1 when the
     /// gap opens as `at` moves positively, -1 otherwise. Elements `spring` (a C; its
     /// deflection follows `at` in both modes, its energy counts only in contact, and
     /// the energy the release drops is that event's energy change) and `damper` (an R).
@@ -245,9 +246,9 @@ pub const TEXT: &str = r#"
     /// the force on `b` that keeps the slip at 0, which the model supplies (it is the
     /// constraint force: for a mass on a belt, minus the other forces on the mass plus
     /// its mass times the belt's acceleration). When the slip crosses 0 (events
-    /// `backward`, `ahead`) the contact sticks if `|held| <= fs`, and otherwise the
+    /// `backward`, `ahead`, watched only while slipping) the contact sticks if `|held| <= fs`, and otherwise the
     /// slip reverses; stuck, it breaks away when `held` leaves [-fs, fs] (events
-    /// `break_ahead`, `break_back`), slipping in the direction `held` pointed. A
+    /// `break_ahead`, `break_back`, watched only while stuck), slipping in the direction `held` pointed. A
     /// stuck contact keeps the slip it had at the event (of the order of the event
     /// time tolerance times the slip's acceleration). The user supplies `fs >= fc`,
     /// `held`, and the modes at the start (`stuck0`, `forward0`). Element `law` (an

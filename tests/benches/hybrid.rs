@@ -11,9 +11,7 @@
 
 use std::hint::black_box;
 
-use bgdsl_runtime::{
-    DormandPrinceOptions, Model, Radau5Options, Simulation, Solver, Trajectory,
-};
+use bgdsl_runtime::{DormandPrinceOptions, Model, Radau5Options, Simulation, Solver, Trajectory};
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::hybrid::{BallPenalty, BouncingBall, HalfWaveRectifier, HalfWaveRectifierExp};
 

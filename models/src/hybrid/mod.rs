@@ -25,6 +25,5 @@ pub use belt_friction::{
 pub use clutch::{ClutchEngagement, ClutchEngagementParams};
 pub use end_stop::{EndStop, EndStopParams};
 pub use rectifier::{
-    HalfWaveRectifier, HalfWaveRectifierExp, HalfWaveRectifierExpParams,
-    HalfWaveRectifierParams,
+    HalfWaveRectifier, HalfWaveRectifierExp, HalfWaveRectifierExpParams, HalfWaveRectifierParams,
 };
