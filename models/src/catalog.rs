@@ -7,6 +7,14 @@
 //! | `quick_return` | [`QuickReturn`]: the flagship, writes the spec's results file and the paper's figures |
 //! | `quick_return_rigid` | [`QuickReturnRigid`]: the same mechanism with rigid joints, the crank driven by a flow source; the same results file and figures |
 //! | `quick_return_rigid_coupled` | [`QuickReturnRigidCoupled`]: rigid joints, the crank driven through the compliant drive coupling |
+//! | `quick_return_friction` | [`QuickReturnFriction`]: the flagship with Coulomb friction and stiction in its slides; the same results file and figures, the friction's columns and charts, and a comparison with the run without friction |
+//! | `quick_return_end_stop` | [`QuickReturnEndStop`]: the flagship with an end stop on the output slider's guide; the same files, the stop's columns and charts, `events.csv`, and a comparison with the run without the stop |
+//! | `bouncing_ball` | [`BouncingBall`]: impacts with restitution, a rest mode |
+//! | `rectifier` | [`HalfWaveRectifier`]: an ideal diode switched by events |
+//! | `rectifier_exp` | [`HalfWaveRectifierExp`]: the same with an exponential-law diode |
+//! | `stick_slip` | [`BeltFriction`]: a mass on a belt, stick and slip |
+//! | `end_stop` | [`EndStop`]: a mass hitting an end stop with restitution |
+//! | `clutch` | [`ClutchEngagement`]: a clutch locking at a speed match |
 //! | `oscillator` | [`Oscillator`] |
 //! | `rlc` | [`SeriesRlc`] |
 //! | `dc_motor` | [`DcMotor`] |
@@ -34,6 +42,13 @@
 //! - the figures, unless plots are off, each as PNG and SVG (for the quick return, the
 //!   paper's Figs. 3–19 and two more; for the other models, one chart per recorded
 //!   output against time);
+//! - for a model with events, `events.csv` (one row per state an event changed, with
+//!   the event's time, name, values before and after, and energy change; see the
+//!   private `events` module), and the summary counts the events by name and sums
+//!   their energy; the quick return's energy balance (Fig. 21) adds that energy;
+//! - for the flagship's hybrid variants, their own columns in `quick_return_extra.csv`
+//!   ([`Entry::extra`], one chart each) and, in the summary, the comparison with the
+//!   same run without the switching ([`Entry::compare`], [`compare`]);
 //! - `index.html`: the run's summary and every figure it drew, self-contained;
 //! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
 //!   sweep writes one too.
@@ -92,6 +107,8 @@
 mod adapter;
 mod checks;
 mod columns;
+pub mod compare;
+mod events;
 mod figures;
 pub mod folder;
 mod params;
@@ -120,7 +137,11 @@ pub use run::{
 pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;
+use crate::hybrid::{
+    BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
+};
 use crate::quick_return::QuickReturn;
+use crate::quick_return_hybrid::{QuickReturnEndStop, QuickReturnFriction};
 use crate::quick_return_rigid::{QuickReturnRigid, QuickReturnRigidCoupled};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -151,6 +172,12 @@ pub struct Entry {
     pub interval: f64,
     /// The solver a run uses unless told otherwise.
     pub solver: fn() -> Solver,
+    /// For a quick return model: outputs and states recorded by default into
+    /// `quick_return_extra.csv`, one chart each (empty: no such file).
+    pub extra: &'static [&'static str],
+    /// For a quick return model: the run its summary compares with (the same with
+    /// some parameters set), or `None`.
+    pub compare: Option<&'static compare::Compare>,
 }
 
 impl fmt::Debug for Entry {
@@ -273,6 +300,47 @@ fn road_solver() -> Solver {
     })
 }
 
+/// The hybrid models' solver: DOPRI5 at rtol 1e-9, atol 1e-12 (their flights, slips
+/// and swings are not stiff; the events are located on its dense output).
+pub fn event_solver() -> Solver {
+    Solver::DormandPrince(DormandPrinceOptions {
+        rtol: 1e-9,
+        atol: 1e-12,
+        ..Default::default()
+    })
+}
+
+/// The ideal rectifier's solver: Radau IIA at rtol 1e-8 (while the diode conducts the
+/// source charges the capacitor with the time constant `r_on C` = 1 ms, beside the
+/// load's 0.1 s).
+fn rectifier_solver() -> Solver {
+    Solver::Radau5(Radau5Options {
+        rtol: 1e-8,
+        atol: 1e-10,
+        ..Default::default()
+    })
+}
+
+/// The friction variant's comparison: the same run without friction.
+static WITHOUT_FRICTION: compare::Compare = compare::Compare {
+    label: "without friction",
+    set: &[("mu", 0.0), ("mu_s", 0.0)],
+};
+
+/// The end stop variant's comparison: the same run with the stop beyond the stroke.
+static WITHOUT_STOP: compare::Compare = compare::Compare {
+    label: "without the stop",
+    set: &[("x_stop", 1.0)],
+};
+
+/// What the end stop variant records beside the spec's columns, and draws.
+const STOP_COLUMNS: &[&str] = &["F_stop", "gap", "resting"];
+
+/// What the friction variant records beside the spec's columns, and draws.
+const FRICTION_COLUMNS: &[&str] = &[
+    "Ff_3C", "N_3C", "u_3C", "mode_3C", "Ff_5C", "N_5C", "u_5C", "mode_5C", "P_fric",
+];
+
 /// Every model, in the order `models list` prints them.
 pub static MODELS: &[Entry] = &[
     Entry {
@@ -284,6 +352,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: flagship_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid",
@@ -294,6 +364,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: rigid_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid_coupled",
@@ -304,6 +376,101 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: coupled_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "quick_return_friction",
+        description: "the quick return mechanism with Coulomb friction and stiction in its two \
+                      slides (mu on the normal force) beside the viscous 20 N·s/m",
+        model: &Adapter::<QuickReturnFriction>(PhantomData),
+        results: ResultsKind::QuickReturn,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: flagship_solver,
+        extra: FRICTION_COLUMNS,
+        compare: Some(&WITHOUT_FRICTION),
+    },
+    Entry {
+        name: "quick_return_end_stop",
+        description: "the quick return mechanism with an end stop on the output slider's guide \
+                      inside its stroke: impacts with restitution, a rest mode",
+        model: &Adapter::<QuickReturnEndStop>(PhantomData),
+        results: ResultsKind::QuickReturn,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: flagship_solver,
+        extra: STOP_COLUMNS,
+        compare: Some(&WITHOUT_STOP),
+    },
+    Entry {
+        name: "bouncing_ball",
+        description: "a ball dropped on a floor: impacts with restitution, at rest after the \
+                      bounces fall below a rest speed",
+        model: &Adapter::<BouncingBall>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "rectifier",
+        description: "a half-wave rectifier: a sine source, an ideal diode (switched at zero \
+                      voltage) and an RC load",
+        model: &Adapter::<HalfWaveRectifier>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 0.1,
+        interval: 1e-5,
+        solver: rectifier_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "rectifier_exp",
+        description: "the half-wave rectifier with an exponential-law diode (smooth, stiff)",
+        model: &Adapter::<HalfWaveRectifierExp>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 0.1,
+        interval: 1e-5,
+        solver: stiff_default,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "stick_slip",
+        description: "a mass on a spring riding a moving belt: Coulomb friction with \
+                      stiction, stick and slip",
+        model: &Adapter::<BeltFriction>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 20.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "end_stop",
+        description: "a mass on a spring hitting an end stop with restitution",
+        model: &Adapter::<EndStop>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "clutch",
+        description: "two shafts joined by a friction clutch that locks when their speeds match",
+        model: &Adapter::<ClutchEngagement>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "oscillator",
@@ -313,6 +480,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 10.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "rlc",
@@ -322,6 +491,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 0.01,
         interval: 1e-5,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_motor",
@@ -332,6 +503,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quarter_car",
@@ -341,6 +514,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 3.0,
         interval: 1e-3,
         solver: road_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "duffing",
@@ -350,6 +525,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 100.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_servo",
@@ -360,6 +537,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
 ];
 
@@ -434,7 +613,8 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown model `crank`; the models are: quick_return, quick_return_rigid, \
-             quick_return_rigid_coupled, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
+             quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, bouncing_ball, rectifier, \
+             rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
         );
     }
 }

@@ -34,6 +34,14 @@ fn list_names_every_model_on_one_line() {
             "quick_return",
             "quick_return_rigid",
             "quick_return_rigid_coupled",
+            "quick_return_friction",
+            "quick_return_end_stop",
+            "bouncing_ball",
+            "rectifier",
+            "rectifier_exp",
+            "stick_slip",
+            "end_stop",
+            "clutch",
             "oscillator",
             "rlc",
             "dc_motor",
@@ -87,7 +95,9 @@ fn params_shows_defaults_units_and_docs() {
     assert_eq!(
         unknown.stderr.trim(),
         "error: unknown model `crank`; the models are: quick_return, quick_return_rigid, \
-         quick_return_rigid_coupled, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
+         quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, \
+         bouncing_ball, rectifier, rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, \
+         dc_motor, quarter_car, duffing, dc_servo"
     );
 }
 
@@ -658,4 +668,83 @@ fn params_lists_a_models_inputs() {
     let words: Vec<&str> = voltage.split_whitespace().collect();
     assert_eq!(&words[..2], ["voltage", "V"], "{voltage}");
     assert!(!run(&["params", "oscillator"]).stdout.contains("\ninputs"));
+}
+
+/// A run of a model with events writes `events.csv` (the header, one row per state an
+/// event changed) and its summary counts the events and sums their energy, which
+/// equals the sum over the file's events; a model without events writes no such file
+/// and no such lines.
+#[test]
+fn a_run_with_events_writes_them_and_counts_them() {
+    let dir = scratch("events_file");
+    let out = run(&[
+        "run",
+        "bouncing_ball",
+        "--no-plots",
+        "--out",
+        dir.join("ball").to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    let text = fs::read_to_string(dir.join("ball").join("events.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,event,state,before,after,event_energy")
+    );
+    // One energy per event (rows of one event repeat it), keyed by its time.
+    let mut events: Vec<(String, f64)> = Vec::new();
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields.len(), 6, "{line}");
+        assert_eq!(fields[1], "floor.hit", "{line}");
+        let before: f64 = fields[3].parse().unwrap();
+        let after: f64 = fields[4].parse().unwrap();
+        assert_ne!(
+            before.to_bits(),
+            after.to_bits(),
+            "only changed states: {line}"
+        );
+        if events.last().map(|e| e.0.as_str()) != Some(fields[0]) {
+            events.push((fields[0].to_owned(), fields[5].parse().unwrap()));
+        }
+    }
+    let count_line = out
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("events "))
+        .expect("an events line");
+    assert_eq!(
+        count_line.split_whitespace().nth(1),
+        Some(events.len().to_string().as_str()),
+        "{count_line}"
+    );
+    let total: f64 = events.iter().map(|e| e.1).sum();
+    let energy_line = out
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("event energy"))
+        .expect("an event energy line");
+    let printed: f64 = energy_line
+        .split_whitespace()
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        (printed - total).abs() <= 1e-5 * total.abs(),
+        "{energy_line} vs {total}"
+    );
+    // The ball comes to rest: every joule of its drop went in the impacts.
+    assert!((total + 9.81).abs() < 1e-6, "{total}");
+
+    let plain = run(&[
+        "run",
+        "oscillator",
+        "--no-plots",
+        "--out",
+        dir.join("oscillator").to_str().unwrap(),
+    ]);
+    assert_success(&plain);
+    assert!(!dir.join("oscillator").join("events.csv").exists());
+    assert!(!plain.stdout.contains("events "), "{}", plain.stdout);
 }
