@@ -108,9 +108,9 @@ pub const TEXT: &str = r#"
     /// the nodes fix the voltage), and `closed0`, the mode at the start: an indicator
     /// starts no event at t0, so a switch whose control is already positive must start
     /// closed. Element `law` (an R); mode `closed`. An indicator's sign is compared
-    /// at step ends: where the control can cross 0 twice while the states barely
-    /// move (an open switch on a clock), give the integrator a largest step below the
-    /// shortest interval between crossings.
+    /// at step ends and a few points inside: where the control can cross 0 twice
+    /// while the states barely move (an open switch on a clock), give the integrator
+    /// a largest step below the shortest interval between crossings.
     submodel Switch(a, b, control, r_on, g_off, closed0 = false) {
         /// conducting (r_on) rather than blocking (g_off)
         mode closed: bool = closed0;

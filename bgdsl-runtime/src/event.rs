@@ -52,8 +52,16 @@
 //! - **Stop** ([`EventAction::Stop`]) ends the run at `t*` with a sample there (the
 //!   state after) and returns `Ok`; [`Simulation::time`](crate::Simulation::time) is
 //!   `t*`.
-//! - **Limits.** A step is seen only at its end: an indicator that crosses and
-//!   crosses back within one step (and is not armed by a bounce) is not seen. An
+//! - **Inside a step.** A method with dense output (DOPRI5, Radau5, Rodas4) also
+//!   evaluates the indicators at [`EventOptions::interior_points`] (default 4) evenly
+//!   spaced points inside each step that shows no crossing at its end, so an
+//!   indicator that crosses and crosses back within the step (a diode's short
+//!   conduction window while the circuit's states change slowly) is located between
+//!   the step's start and the first point where it shows.
+//! - **Limits.** An indicator that crosses and crosses back between two of those
+//!   points (a stiff method's step spanning several periods of a source), or within
+//!   a fixed step, is not seen: give the method a largest step below the shortest
+//!   interval between crossings. An
 //!   action that moves another indicator across zero does not fire it (its reference
 //!   is taken after the action).
 //!
@@ -177,6 +185,13 @@ pub struct EventOptions {
     /// The repeats in a row after which the run ends with
     /// [`SolverError::Chattering`](crate::SolverError::Chattering). Default 50.
     pub max_repeats: usize,
+    /// Points inside each step of a method with dense output (DOPRI5, Radau5, Rodas4)
+    /// at which the indicators are also evaluated, evenly spaced, so that an indicator
+    /// that crosses zero and back within one step (a diode's short conduction window
+    /// while the circuit's states change slowly) is still seen. 0 looks only at step
+    /// ends. Fixed-step methods look only at step ends: their step is the user's.
+    /// Default 4.
+    pub interior_points: usize,
 }
 
 impl Default for EventOptions {
@@ -186,6 +201,7 @@ impl Default for EventOptions {
             max_events: 100_000,
             min_interval: 1e-9,
             max_repeats: 50,
+            interior_points: 4,
         }
     }
 }

@@ -326,3 +326,53 @@ fn stiff_methods_follow_the_closed_form_across_the_switches() {
         assert!(late < 1e-8, "{name}: a switch off by {late} s");
     }
 }
+
+/// Without a largest step, DOPRI5's steps grow past a conduction window while the
+/// diode blocks (the capacitor's decay does not see the source), and the signs at the
+/// steps' ends miss both of the window's crossings: with `interior_points = 0` some
+/// switches are lost (what this test shows would fail without them). The runtime's
+/// default also looks at four points inside every step, and then DOPRI5 at its
+/// default and at a tight tolerance finds every switch of the closed form. (Radau5's
+/// steps while the diode blocks span several periods, beyond what a few points can
+/// resolve: the stiff methods need the largest step of the test above.)
+#[test]
+fn interior_points_find_every_switch_without_a_largest_step() {
+    use bgdsl_runtime::EventOptions;
+    let model = HalfWaveRectifier::default();
+    let switches = Reference::new(&model.params, T_END).switches();
+    let dopri = |rtol| {
+        Solver::DormandPrince(DormandPrinceOptions {
+            rtol,
+            atol: rtol * 1e-2,
+            ..Default::default()
+        })
+    };
+    let run = |solver: Solver, interior_points: usize| {
+        let mut x0 = vec![0.0; HalfWaveRectifier::STATE_NAMES.len()];
+        model.initial_state(&mut x0);
+        let mut traj = Trajectory::for_model::<HalfWaveRectifier>(2).with_event_capacity(32);
+        let mut sim = Simulation::new(&model, solver).unwrap();
+        sim.set_event_options(EventOptions {
+            interior_points,
+            ..EventOptions::default()
+        })
+        .unwrap();
+        sim.run(0.0, &x0, &[0.0, T_END], &mut traj).unwrap();
+        traj.events().times().to_vec()
+    };
+    let mut missed_without = 0;
+    for rtol in [1e-6, 1e-10] {
+        let found = run(dopri(rtol), EventOptions::default().interior_points);
+        assert_eq!(found.len(), switches.len(), "rtol {rtol}: {found:?} vs {switches:?}");
+        let late = found
+            .iter()
+            .zip(&switches)
+            .map(|(t, s)| (t - s).abs())
+            .fold(0.0, f64::max);
+        // The dense output's error at rtol 1e-6 moves a switch by about 1e-6 V over a
+        // slope of 800 V/s or more.
+        assert!(late < 1e-7, "rtol {rtol}: a switch off by {late} s");
+        missed_without += switches.len() - run(dopri(rtol), 0).len();
+    }
+    assert!(missed_without > 0, "the case must need the interior points");
+}

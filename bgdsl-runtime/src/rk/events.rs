@@ -177,7 +177,7 @@ impl<const N: usize, const E: usize, const K: usize> Hybrid<N, E, K> {
         x: &mut [f64],
         stats: &mut Stats,
     ) -> Result<Option<EventAction>, SolverError> {
-        if E == 0 || !self.events.check(model, *t, x, stats)? {
+        if E == 0 || self.events.check(model, t_a, *t, x, None, stats)?.is_none() {
             return Ok(None);
         }
         let t_star = self
@@ -199,16 +199,20 @@ impl<const N: usize, const E: usize, const K: usize> Hybrid<N, E, K> {
         x: &mut [f64],
         stats: &mut Stats,
     ) -> Result<Option<EventAction>, SolverError> {
-        if E == 0 || !self.events.check(model, *t, x, stats)? {
+        if E == 0 {
             return Ok(None);
         }
-        let dense = |s: f64, out: &mut [f64]| {
+        let mut dense = |s: f64, out: &mut [f64]| {
             kernel.interpolate(s, out);
             Ok(())
         };
+        let found = self.events.check(model, t_a, *t, x, Some(&mut dense), stats)?;
+        let Some(t_b) = found else {
+            return Ok(None);
+        };
         let t_star = self
             .events
-            .locate(model, t_a, *t, dense, &mut stats.n_event_fn)?;
+            .locate(model, t_a, t_b, dense, &mut stats.n_event_fn)?;
         kernel.restart();
         self.fire(model, t_star, t, x, stats).map(Some)
     }

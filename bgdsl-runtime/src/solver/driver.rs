@@ -601,11 +601,23 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Flow, SolverError> {
         let model = self.model.get();
-        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats)? {
+        if !self.events.active() {
             return Ok(Flow::Continue);
         }
-        let t_b = self.t;
         let (events, stats) = (&mut self.events, &mut self.stats);
+        let found = if refit {
+            events.check(model, t_a, self.t, &self.x, None, stats)?
+        } else {
+            let kernel = &self.kernel;
+            let mut dense = |t: f64, out: &mut [f64]| {
+                kernel.interpolate(t, out);
+                Ok(())
+            };
+            events.check(model, t_a, self.t, &self.x, Some(&mut dense), stats)?
+        };
+        let Some(t_b) = found else {
+            return Ok(Flow::Continue);
+        };
         let t_star = if refit {
             let kernel = explicit(&mut self.kernel);
             events.locate_by_restep(model, kernel, t_a, &self.x_start, t_b, stats)?

@@ -281,35 +281,64 @@ impl<S: EventStorage> Events<S> {
     }
 
     fn fires(&self, i: usize) -> bool {
-        self.info[i]
-            .direction
-            .fires(self.sign.as_ref()[i], self.g.as_ref()[i])
+        self.fires_on(i, self.g.as_ref())
     }
 
-    /// Evaluates the indicators at the end `(t, x)` of an accepted step. Returns whether
-    /// an event fires in the step; if none does, the end becomes the references.
+    /// Whether event `i` fires with `values` as its indicators' values.
+    fn fires_on(&self, i: usize, values: &[f64]) -> bool {
+        self.info[i]
+            .direction
+            .fires(self.sign.as_ref()[i], values[i])
+    }
+
+    /// Evaluates the indicators at the end `(t_b, x)` of an accepted step from `t_a`
+    /// and, if none fires there and the step has a continuous extension (`inside`:
+    /// the state at any time of the step), at [`EventOptions::interior_points`] evenly
+    /// spaced points inside it, where an indicator that crosses and crosses back
+    /// within the step shows. Returns the end of the bracket to locate on: `t_b`, or
+    /// the first inside point where an event fires; `None` if none fires, and then
+    /// the end becomes the references. Events armed by a bounce at `t_a` are left to
+    /// the end's check (they are on their far side just after `t_a`).
     pub fn check<M: Model>(
         &mut self,
         model: &M,
-        t: f64,
+        t_a: f64,
+        t_b: f64,
         x: &[f64],
+        inside: Option<&mut dyn FnMut(f64, &mut [f64]) -> Result<(), SolverError>>,
         stats: &mut Stats,
-    ) -> Result<bool, SolverError> {
+    ) -> Result<Option<f64>, SolverError> {
         indicators(
             self.info,
             model,
-            t,
+            t_b,
             x,
             self.g.as_mut(),
             &mut stats.n_event_fn,
         )?;
         if (0..self.info.len()).any(|i| self.fires(i)) {
-            return Ok(true);
+            return Ok(Some(t_b));
+        }
+        if let Some(state_at) = inside {
+            let points = self.options.interior_points;
+            for k in 1..=points {
+                let t = t_a + (t_b - t_a) * (k as f64 / (points + 1) as f64);
+                state_at(t, self.scratch.as_mut())?;
+                let (x, probe) = (self.scratch.as_ref(), self.probe.as_mut());
+                indicators(self.info, model, t, x, probe, &mut stats.n_event_fn)?;
+                let probe = self.probe.as_ref();
+                let fires = |i: usize| !self.armed.as_ref()[i] && self.fires_on(i, probe);
+                if (0..self.info.len()).any(fires) {
+                    let (g, probe) = (self.g.as_mut(), self.probe.as_ref());
+                    g.copy_from_slice(probe);
+                    return Ok(Some(t));
+                }
+            }
         }
         self.value.as_mut().copy_from_slice(self.g.as_ref());
         self.take_references(false);
         self.armed.as_mut().fill(false);
-        Ok(false)
+        Ok(None)
     }
 
     /// Locates the earliest crossing in the step `[t_a, t_b]` that [`Events::check`]

@@ -28,8 +28,8 @@ bond_graph! {
     /// Give the integrator a largest step below the conduction window (3 ms with the
     /// defaults; `max_step: 1e-3` is safe): the diode's voltage sees the source, but
     /// while it blocks the capacitor's decay does not, so an adaptive method's steps
-    /// grow past a whole window and its two crossings cancel at the step's ends,
-    /// where the runtime compares the indicator's signs.
+    /// grow past a whole window; the runtime's points inside each step find it for
+    /// DOPRI5, but a stiff method's steps there span several periods.
     ///
     /// States: `cap.q` (charge, C); mode `diode.on`.
     ///
