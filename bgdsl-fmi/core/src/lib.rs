@@ -76,7 +76,7 @@ pub use fmi2::Status;
 pub use instance::{CallError, Instance};
 pub use library::{check_serves, find_library, find_library_named, library_file_name, LIBRARY_ENV};
 pub use machine::{Call, Phase};
-pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes};
+pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes, Stopped};
 pub use package::{fmu_bytes, platform_folder, write_fmu, FmuError};
 pub use registry::ModelEntry;
 pub use variables::{Role, Variable, Variables};

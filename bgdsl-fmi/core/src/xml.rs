@@ -25,7 +25,8 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
     let tool = concat!("bgdsl-fmi-core ", env!("CARGO_PKG_VERSION"));
     attr(&mut x, 2, "generationTool", tool);
     attr(&mut x, 2, "variableNamingConvention", d.naming.as_str());
-    attr(&mut x, 2, "numberOfEventIndicators", "0");
+    let events = d.variables.sizes().events.to_string();
+    attr(&mut x, 2, "numberOfEventIndicators", &events);
     x.push_str(">\n");
 
     // Capabilities. Both interfaces are served by the same binary.
@@ -120,7 +121,9 @@ fn index(v: &Variable) -> u64 {
 }
 
 fn scalar_variable(x: &mut String, d: &ModelDescription, v: &Variable) {
+    let continuous = d.variables.sizes().continuous();
     let (causality, variability, initial) = match v.role {
+        Role::State(i) if i >= continuous => ("local", "discrete", Some("exact")),
         Role::State(_) => ("local", "continuous", Some("exact")),
         Role::Derivative(_) => ("local", "continuous", Some("calculated")),
         Role::Output(_) => ("output", "continuous", Some("calculated")),
