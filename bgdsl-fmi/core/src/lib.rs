@@ -48,6 +48,18 @@
 //! The host sets parameters, inputs and, before initialisation ends, the initial
 //! states (`initial="exact"`; see [`variables`]).
 //!
+//! # Events and modes
+//!
+//! A model's events ([`Model::EVENTS`](bgdsl_runtime::Model::EVENTS)) are the FMU's
+//! event indicators (`numberOfEventIndicators`), in Model Exchange: the importer
+//! locates their sign changes, and in Event Mode `fmi2NewDiscreteStates` applies the
+//! actions of those that crossed in their direction (a `stop` action sets
+//! `terminateSimulation`). Its discrete modes are discrete variables the FMU keeps, not
+//! continuous states: `nx` counts the continuous states only. In Co-Simulation the
+//! model's own solver handles the events inside each `fmi2DoStep`, and a `stop` ends
+//! the step early with `fmi2Discard` and `fmi2Terminated`. See [`instance`] and
+//! [`variables`].
+//!
 //! # Your own model as an FMU
 //!
 //! A crate that builds as a `cdylib`, lists its models in a `static` registry of

@@ -32,6 +32,8 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
     // Capabilities. Both interfaces are served by the same binary.
     x.push_str("  <ModelExchange\n");
     attr(&mut x, 4, "modelIdentifier", identifier);
+    // An importer that locates every sign change of the indicators needs no
+    // fmi2CompletedIntegratorStep: the FMU takes its reference at each event.
     attr(&mut x, 4, "completedIntegratorStepNotNeeded", "true");
     common_capabilities(&mut x);
     x.push_str("  />\n");
