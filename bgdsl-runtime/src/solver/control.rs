@@ -39,6 +39,13 @@ pub(crate) struct Grid {
 }
 
 impl Grid {
+    /// Takes back the grid point a step ended on, when an event cut that step short:
+    /// the next step ends on it again.
+    #[cfg(feature = "std")]
+    pub fn step_back(&mut self) {
+        self.k -= 1;
+    }
+
     /// The grid of steps `o.step` from `t0`, for a run that ends at `t_end`. Fails if the
     /// step is too small to advance the time somewhere on `[t0, t_end]`, for the loop
     /// could not end.
@@ -76,37 +83,44 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
     /// of `ts` is taken to be `ts`. Fails at the first non-finite value, or when the
     /// budget of accepted steps runs out.
     pub fn fixed_steps_to(&mut self, grid: &mut Grid, ts: f64) -> Result<(), SolverError> {
+        while *self.t < ts {
+            self.fixed_step(grid, ts)?;
+        }
+        Ok(())
+    }
+
+    /// One step of [`Run::fixed_steps_to`] (the current time is before `ts`). Returns
+    /// whether it ended on a grid point (and moved the grid on past it).
+    pub fn fixed_step(&mut self, grid: &mut Grid, ts: f64) -> Result<bool, SolverError> {
         let h = grid.h;
         // A grid point this close to a sample time is the sample time.
         let merge = (1e-9 * h).max(8.0 * f64::EPSILON * ts.abs());
-        while *self.t < ts {
-            if self.stats.accepted >= grid.max_steps {
-                return Err(SolverError::StepBudgetExhausted {
-                    t: *self.t,
-                    t_end: grid.t_end,
-                    steps: self.stats.accepted,
-                });
-            }
-            let on = grid.t0 + (grid.k + 1) as f64 * h;
-            let (t_new, on_grid) = if on < ts - merge {
-                (on, true)
-            } else {
-                (ts, on <= ts + merge)
-            };
-            let t = *self.t;
-            let (kernel, stats) = (&mut *self.kernel, &mut *self.stats);
-            kernel
-                .prepare(self.model, t, self.x, &mut stats.n_rhs)
-                .and_then(|()| kernel.attempt(self.model, t, t_new, self.x, &mut stats.n_rhs))
-                .map_err(non_finite::<M>)?;
-            kernel.accept(t, t_new, self.x, false);
-            *self.t = t_new;
-            stats.accepted += 1;
-            if on_grid {
-                grid.k += 1;
-            }
+        if self.stats.accepted >= grid.max_steps {
+            return Err(SolverError::StepBudgetExhausted {
+                t: *self.t,
+                t_end: grid.t_end,
+                steps: self.stats.accepted,
+            });
         }
-        Ok(())
+        let on = grid.t0 + (grid.k + 1) as f64 * h;
+        let (t_new, on_grid) = if on < ts - merge {
+            (on, true)
+        } else {
+            (ts, on <= ts + merge)
+        };
+        let t = *self.t;
+        let (kernel, stats) = (&mut *self.kernel, &mut *self.stats);
+        kernel
+            .prepare(self.model, t, self.x, &mut stats.n_rhs)
+            .and_then(|()| kernel.attempt(self.model, t, t_new, self.x, &mut stats.n_rhs))
+            .map_err(non_finite::<M>)?;
+        kernel.accept(t, t_new, self.x, false);
+        *self.t = t_new;
+        stats.accepted += 1;
+        if on_grid {
+            grid.k += 1;
+        }
+        Ok(on_grid)
     }
 
     /// Evaluates `f(t, x)` at the current point unless the kernel holds it.

@@ -4,6 +4,7 @@
 //! reuse) the driver calls one accepted step at a time.
 
 use super::control::{Grid, Run};
+use super::events::Events;
 use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
 use super::stats::Stats;
@@ -11,7 +12,7 @@ use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
 use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
-use crate::event::EventOptions;
+use crate::event::{EventAction, EventOptions};
 use crate::model::Model;
 use crate::record::{Recorder, Trajectory};
 
@@ -61,7 +62,22 @@ pub struct Simulation<'m, M: Model> {
     /// The outputs at a sample.
     y: Vec<f64>,
     stats: Stats,
-    event_options: EventOptions,
+    /// The event bookkeeping (inactive for a model without events).
+    events: Events,
+    /// The state at the start of the last step (fixed-step methods re-take the step
+    /// from it to locate an event).
+    x_start: Vec<f64>,
+}
+
+/// What a run does after a step, once its events are handled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Flow {
+    /// No event: step on.
+    Continue,
+    /// An event cut the step short: the method starts afresh from the state after it.
+    Restart,
+    /// An event's action ended the run.
+    Stop,
 }
 
 /// The model a simulation integrates: the caller's, borrowed, or its own.
@@ -239,7 +255,8 @@ impl<'m, M: Model> Simulation<'m, M> {
             x_dense: vec![0.0; n],
             y: vec![0.0; M::N_OUTPUTS],
             stats: Stats::default(),
-            event_options: EventOptions::default(),
+            events: Events::new::<M>(),
+            x_start: vec![0.0; n],
         })
     }
 
@@ -271,13 +288,13 @@ impl<'m, M: Model> Simulation<'m, M> {
     /// then unchanged.
     pub fn set_event_options(&mut self, options: EventOptions) -> Result<(), SolverError> {
         options.validate()?;
-        self.event_options = options;
+        self.events.options = options;
         Ok(())
     }
 
     /// The event options runs use.
     pub fn event_options(&self) -> &EventOptions {
-        &self.event_options
+        &self.events.options
     }
 
     /// The time the last run reached: its last sample time, or where it failed.
@@ -355,6 +372,10 @@ impl<'m, M: Model> Simulation<'m, M> {
         if let Kernel::Explicit(k) = &mut self.kernel {
             k.restart();
         }
+        if self.events.active() {
+            self.events
+                .reset(self.model.get(), t0, &self.x, &mut self.stats);
+        }
         match self.solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => self
                 .run_fixed(o, samples, recorder)
@@ -391,7 +412,8 @@ impl<'m, M: Model> Simulation<'m, M> {
     }
 
     /// Fixed steps on the grid `t0 + k * step`, each shortened to end on a sample time
-    /// it would pass.
+    /// it would pass, or cut short by an event (the grid then resumes: the next step
+    /// ends on the next grid point).
     fn run_fixed<R: Recorder + ?Sized>(
         &mut self,
         o: FixedStep,
@@ -403,12 +425,34 @@ impl<'m, M: Model> Simulation<'m, M> {
             return Ok(());
         }
         let mut grid = Grid::new(self.t, samples.get(n - 1), &o)?;
-        for i in 0..n {
-            let ts = samples.get(i);
-            self.explicit_run().fixed_steps_to(&mut grid, ts)?;
-            self.emit(ts, false, recorder)?;
+        let mut next = 0;
+        loop {
+            while next < n && samples.get(next) <= self.t {
+                self.emit(samples.get(next), false, recorder)?;
+                next += 1;
+            }
+            if next == n {
+                return Ok(());
+            }
+            let t_a = self.t;
+            if self.events.active() {
+                self.x_start.copy_from_slice(&self.x);
+            }
+            let on_grid = self
+                .explicit_run()
+                .fixed_step(&mut grid, samples.get(next))?;
+            let t_b = self.t;
+            match self.handle_events(t_a, true, samples, &mut next, recorder)? {
+                Flow::Continue => {}
+                Flow::Stop => return Ok(()),
+                Flow::Restart => {
+                    if on_grid && self.t < t_b {
+                        grid.step_back();
+                    }
+                    explicit(&mut self.kernel).restart();
+                }
+            }
         }
-        Ok(())
     }
 
     /// Adaptive steps with the PI controller of Hairer's DOPRI5; samples inside a step
@@ -430,11 +474,18 @@ impl<'m, M: Model> Simulation<'m, M> {
         }
         let t_end = samples.get(n - 1);
         let mut adaptive = self.explicit_run().start_adaptive(o)?;
+        // Locating events needs every step's dense output.
+        let always_dense = self.events.active();
         loop {
             // Interpolate only for a step that passes a sample time.
             let sample = samples.get(next);
+            let t_a = self.t;
             self.explicit_run()
-                .adaptive_step(&mut adaptive, t_end, |t_new| sample < t_new)?;
+                .adaptive_step(&mut adaptive, t_end, |t_new| always_dense || sample < t_new)?;
+            let flow = self.handle_events(t_a, false, samples, &mut next, recorder)?;
+            if flow == Flow::Stop {
+                return Ok(());
+            }
             let t_new = self.t;
             while next < n && samples.get(next) <= t_new {
                 let ts = samples.get(next);
@@ -443,6 +494,10 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
             if next == n {
                 return Ok(());
+            }
+            if flow == Flow::Restart {
+                explicit(&mut self.kernel).restart();
+                adaptive = self.explicit_run().start_adaptive(o)?;
             }
         }
     }
@@ -478,6 +533,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         let t_end = samples.get(n - 1);
         stiff(&mut self.kernel).start(self.model.get(), self.t, &self.x, t_end, &mut self.stats)?;
         loop {
+            let t_a = self.t;
             stiff(&mut self.kernel).step(
                 self.model.get(),
                 &mut self.t,
@@ -485,6 +541,10 @@ impl<'m, M: Model> Simulation<'m, M> {
                 t_end,
                 &mut self.stats,
             )?;
+            let flow = self.handle_events(t_a, false, samples, &mut next, recorder)?;
+            if flow == Flow::Stop {
+                return Ok(());
+            }
             let t_new = self.t;
             while next < n && samples.get(next) <= t_new {
                 let ts = samples.get(next);
@@ -494,7 +554,80 @@ impl<'m, M: Model> Simulation<'m, M> {
             if next == n {
                 return Ok(());
             }
+            if flow == Flow::Restart {
+                let model = self.model.get();
+                stiff(&mut self.kernel).restart(model, self.t, &self.x, t_end, &mut self.stats)?;
+            }
         }
+    }
+
+    /// Handles the events of the step just accepted from `t_a`: detects them at its
+    /// end, locates the earliest crossing (on the step's dense output, or, for a
+    /// fixed-step method (`refit`), by re-taking the step from `t_a` with a shortened
+    /// length), records the samples before it from the dense output, moves the run to
+    /// the event and applies the actions. On [`Flow::Stop`] the samples at the event's
+    /// time (or one there, if none is asked for) are recorded, with the state after it.
+    fn handle_events<R: Recorder + ?Sized>(
+        &mut self,
+        t_a: f64,
+        refit: bool,
+        samples: Samples<'_>,
+        next: &mut usize,
+        recorder: &mut R,
+    ) -> Result<Flow, SolverError> {
+        let model = self.model.get();
+        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats) {
+            return Ok(Flow::Continue);
+        }
+        let t_b = self.t;
+        let (events, stats) = (&mut self.events, &mut self.stats);
+        let t_star = if refit {
+            let (kernel, x_a) = (explicit(&mut self.kernel), &self.x_start);
+            let n_rhs = &mut stats.n_rhs;
+            let restep = |t: f64, out: &mut [f64]| {
+                kernel.restart();
+                kernel
+                    .prepare(model, t_a, x_a, n_rhs)
+                    .and_then(|()| kernel.attempt(model, t_a, t, x_a, n_rhs))
+                    .map_err(non_finite::<M>)?;
+                out.copy_from_slice(kernel.x_new());
+                Ok(())
+            };
+            events.locate(model, t_a, t_b, restep, &mut stats.n_event_fn)?
+        } else {
+            let kernel = &self.kernel;
+            let dense = |t: f64, out: &mut [f64]| {
+                kernel.interpolate(t, out);
+                Ok(())
+            };
+            events.locate(model, t_a, t_b, dense, &mut stats.n_event_fn)?
+        };
+        let n = samples.len();
+        while *next < n && samples.get(*next) < t_star {
+            self.emit(samples.get(*next), true, recorder)?;
+            *next += 1;
+        }
+        self.t = t_star;
+        self.x.copy_from_slice(&self.events.x_event);
+        let model = self.model.get();
+        let action = self
+            .events
+            .apply(model, t_star, &mut self.x, recorder, &mut self.stats)?;
+        if action == EventAction::Stop {
+            let mut recorded = false;
+            while *next < n && samples.get(*next) <= t_star {
+                self.emit(samples.get(*next), false, recorder)?;
+                *next += 1;
+                recorded = true;
+            }
+            if !recorded {
+                self.emit(t_star, false, recorder)?;
+            }
+            return Ok(Flow::Stop);
+        }
+        self.events
+            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
+        Ok(Flow::Restart)
     }
 
     /// Records the sample at `t`: the current state, or (`dense`) the continuous

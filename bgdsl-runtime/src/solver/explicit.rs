@@ -196,6 +196,12 @@ impl<S: Storage> ExplicitRk<S> {
         Ok(())
     }
 
+    /// The solution proposed by the last attempted step.
+    #[cfg(feature = "std")]
+    pub fn x_new(&self) -> &[f64] {
+        self.x_new.as_ref()
+    }
+
     /// The embedded error estimate of the last attempted step of length `h`, in the norm
     /// `sqrt(mean((err_i / (atol + rtol * max(|x_i|, |x_new_i|)))^2))`; `0` for a
     /// method without an embedded formula.

@@ -26,6 +26,8 @@
 pub(crate) mod control;
 #[cfg(feature = "std")]
 mod driver;
+#[cfg(feature = "std")]
+mod events;
 pub(crate) mod explicit;
 mod options;
 mod stats;

@@ -227,6 +227,21 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         stats: &mut Stats,
     ) -> Result<(), SolverError> {
         self.started = Instant::now();
+        self.restart(model, t, x, t_end, stats)
+    }
+
+    /// Starts afresh at `(t, x)` within a run (after an event, whose action changed the
+    /// state): forgets the Jacobian, the LU factors, the step-size controller's history
+    /// and the method's start values from the previous step, evaluates `f(t, x)` and
+    /// chooses a new first step size. The wall clock runs on.
+    pub fn restart<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        t_end: f64,
+        stats: &mut Stats,
+    ) -> Result<(), SolverError> {
         self.method.restart();
         self.evaluator.restart();
         self.factored_h = None;
@@ -580,6 +595,20 @@ impl StiffKernel {
         match self {
             StiffKernel::Radau5(k) => k.start(model, t, x, t_end, stats),
             StiffKernel::Rosenbrock(k) => k.start(model, t, x, t_end, stats),
+        }
+    }
+
+    pub fn restart<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        t_end: f64,
+        stats: &mut Stats,
+    ) -> Result<(), SolverError> {
+        match self {
+            StiffKernel::Radau5(k) => k.restart(model, t, x, t_end, stats),
+            StiffKernel::Rosenbrock(k) => k.restart(model, t, x, t_end, stats),
         }
     }
 
