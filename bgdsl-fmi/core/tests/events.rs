@@ -571,6 +571,11 @@ fn a_co_simulation_step_across_impacts_lands_on_the_closed_form() {
             let end = t + h;
             let (h_exact, v_exact) = exact(end);
             let bounces = (1..).take_while(|&k| bounce(k).0 <= end).count() as f64;
+            eprintln!(
+                "t = {end}: h off by {:.1e} m, v by {:.1e} m/s",
+                (values[0] - h_exact).abs(),
+                (values[1] - v_exact).abs()
+            );
             assert!(
                 (values[0] - h_exact).abs() < 1e-9,
                 "t = {end}: {values:?} vs {h_exact}"
@@ -599,10 +604,20 @@ fn a_stop_inside_a_co_simulation_step_is_reported_through_the_status() {
     let mut values = [0.0; 2];
     // SAFETY: a live component and arrays of the lengths passed.
     unsafe {
+        assert_eq!(
+            fmi2SetDebugLogging(c, TRUE, 1, [c"logEvents".as_ptr()].as_ptr()),
+            Status::Ok
+        );
         assert_eq!(fmi2DoStep(c, 0.0, 1.0, TRUE), Status::Ok);
         assert_eq!(fmi2GetBooleanStatus(c, 3, &mut terminated), Status::Ok);
         assert_eq!(terminated, FALSE);
         assert_eq!(fmi2DoStep(c, 1.0, 9.0, TRUE), Status::Discard);
+        assert!(
+            log.last()
+                .contains("the event count stopped StoppingBall at t = 1.75"),
+            "{}",
+            log.last()
+        );
         assert_eq!(fmi2GetBooleanStatus(c, 3, &mut terminated), Status::Ok);
         assert_eq!(terminated, TRUE);
         assert_eq!(fmi2GetRealStatus(c, 2, &mut last), Status::Ok);
@@ -615,10 +630,25 @@ fn a_stop_inside_a_co_simulation_step_is_reported_through_the_status() {
         assert_eq!(fmi2Terminate(c), Status::Ok);
         fmi2FreeInstance(c);
     }
+    eprintln!(
+        "stopped {:.1e} s from the closed form's third bounce, v off by {:.1e} m/s",
+        (last - t3).abs(),
+        (values[0] - v3).abs()
+    );
     assert!(
         (last - t3).abs() < 1e-9,
         "stopped at {last}, the third bounce is at {t3}"
     );
+    // The events inside the steps, in the log: hit and count at each bounce.
+    let events: Vec<_> = log
+        .all()
+        .into_iter()
+        .filter(|(_, category, _)| category == "logEvents")
+        .map(|m| m.2)
+        .collect();
+    assert_eq!(events.len(), 6, "{events:?}");
+    assert!(events[4].starts_with("event hit at t = 1.75"), "{events:?}");
+    assert!(events[5].ends_with("; stop"), "{events:?}");
     assert!((values[0] - v3).abs() < 1e-9, "{values:?} vs {v3}");
     assert_eq!(values[1], 3.0);
 }
