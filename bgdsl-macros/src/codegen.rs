@@ -113,6 +113,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     );
     let graph_const = graph_description(graph, causality, equations);
     let body = evaluation_body(graph, equations, &derived);
+    let event_items = crate::event_code::model_items(graph, equations, &body);
     let check_body = {
         let solve =
             crate::staged::solve_first(equations, quote!(return ::core::result::Result::Ok(());));
@@ -334,6 +335,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             }
 
             #check_inverses
+            #event_items
         }
 
         #with_inputs
@@ -368,7 +370,8 @@ fn collect_derived(equations: &Equations) -> crate::derived::Derived {
         laws.chain(ders)
             .chain(outputs)
             .chain(dependent)
-            .chain(inverses),
+            .chain(inverses)
+            .chain(crate::event_code::expressions(equations)),
     )
 }
 
@@ -800,6 +803,11 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
         .iter()
         .zip(equations.offsets())
         .map(|(state, offset)| {
+            if let Some(m) = state.mode {
+                let mode = &graph.modes[m];
+                let value = crate::event_code::stored(mode.kind, f64_expr(&mode.init));
+                return write_value(state.shape, value, &x0, offset, &f64_type);
+            }
             let declared = match (state.element, state.kinematic) {
                 (Some(element), _) => graph
                     .inits
@@ -996,10 +1004,12 @@ pub fn prelude(
             }
         }
     });
+    let modes = crate::event_code::bind_modes(graph, equations);
     quote! {
         #params
         #hoisted
         #(#states)*
+        #modes
     }
 }
 

@@ -26,6 +26,8 @@ pub struct State {
     pub element: Option<ElementId>,
     /// The kinematic state's index in [`Graph::kinematics`], if it is one.
     pub kinematic: Option<usize>,
+    /// The mode's index in [`Graph::modes`], if it is one (its derivative is 0).
+    pub mode: Option<usize>,
     /// Its shape: the bond's dimension for storage, the declared one otherwise.
     pub shape: Shape,
     /// What its time derivative equals.
@@ -133,6 +135,8 @@ pub struct Equations {
     pub dependent: Vec<crate::implicit::Dependent>,
     /// The unknowns solved at every evaluation (empty for an explicit model).
     pub implicit: crate::implicit::System,
+    /// The events' indicators and actions, in declaration order.
+    pub events: Vec<crate::events::EventCode>,
 }
 
 impl Equations {
@@ -240,6 +244,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
             ),
             element: Some(id),
             kinematic: None,
+            mode: None,
             shape: Shape::of_dimension(graph.bond_dims[bond.0]),
             derivative: Derivative::Term(derivative),
         });
@@ -257,10 +262,37 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
             name: crate::flatten::display(&kinematic.name.to_string()),
             element: None,
             kinematic: Some(k),
+            mode: None,
             shape: kinematic.shape,
             derivative: Derivative::Expr(der),
         });
     }
+    // Modes last: constant between events, so their derivative is exactly 0.
+    let mode_state: Vec<usize> = (states.len()..states.len() + graph.modes.len()).collect();
+    for (m, mode) in graph.modes.iter().enumerate() {
+        let zero = crate::rewrite::scalar_literal(&syn::LitFloat::new("0.0", mode.name.span()));
+        states.push(State {
+            name: crate::flatten::display(&mode.name.to_string()),
+            element: None,
+            kinematic: None,
+            mode: Some(m),
+            shape: Shape::Scalar,
+            derivative: Derivative::Expr(Rewritten {
+                expr: zero,
+                deps: Vec::new(),
+            }),
+        });
+    }
+    let events = crate::events::derive(
+        graph,
+        &Scope {
+            graph,
+            state_of: &state_of,
+            kinematic_state: &kinematic_state,
+        },
+        &mode_state,
+        &mut errors,
+    );
     let mut builder = Builder {
         graph,
         causality,
@@ -300,6 +332,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
             outputs,
             dependent,
             implicit: crate::implicit::System::default(),
+            events,
         });
     }
     let mut dependent = dependent;
@@ -314,6 +347,7 @@ pub fn derive(graph: &Graph, causality: &Causality) -> syn::Result<Equations> {
         outputs,
         dependent,
         implicit,
+        events,
     })
 }
 

@@ -98,6 +98,7 @@ pub fn flatten(
     submodels: &[&SubmodelDef],
     errors: &mut Vec<syn::Error>,
 ) -> TokenStream {
+    let body = label_whens(body);
     // The separator is reserved for the names instances give their parts.
     let own = declared_idents(&body);
     let library = submodels.iter().flat_map(|d| declared_idents(&d.body));
@@ -161,19 +162,25 @@ fn expand(
             continue;
         };
         instances.insert(name.to_string());
-        let locals = declared_names(&def.body);
-        let inlined = rewrite(def.body.clone(), &name, &locals, &substitutions);
+        let def_body = label_whens(def.body.clone());
+        let locals = declared_names(&def_body);
+        let inlined = rewrite(def_body, &name, &locals, &substitutions);
         out.extend(expand(inlined, submodels, errors, instances, depth + 1));
     }
     out
 }
 
-/// Splits a body into statements, each with its `;`.
+/// Splits a body into statements, each with its `;` (a `when` block ends with its
+/// braces).
 fn statements(body: TokenStream) -> Vec<Vec<TokenTree>> {
     let mut all = Vec::new();
     let mut current = Vec::new();
     for tt in body {
-        let end = matches!(&tt, TokenTree::Punct(p) if p.as_char() == ';');
+        let end = match &tt {
+            TokenTree::Punct(p) => p.as_char() == ';',
+            TokenTree::Group(g) => g.delimiter() == Delimiter::Brace && starts_when(&current),
+            _ => false,
+        };
         current.push(tt);
         if end {
             all.push(std::mem::take(&mut current));
@@ -195,6 +202,60 @@ fn skip_attributes(statement: &[TokenTree]) -> &[TokenTree] {
         rest = tail;
     }
     rest
+}
+
+/// Whether a statement (as far as it is read) is a `when` block: `when` first, not
+/// starting a bond (`when -> x`, `when -[b]-> x`).
+fn starts_when(statement: &[TokenTree]) -> bool {
+    match skip_attributes(statement) {
+        [TokenTree::Ident(word), rest @ ..] if word == "when" => !matches!(
+            rest,
+            [TokenTree::Punct(dash), TokenTree::Punct(_) | TokenTree::Group(_), ..]
+                if dash.as_char() == '-'
+                    && match &rest[1] {
+                        TokenTree::Punct(arrow) => arrow.as_char() == '>',
+                        TokenTree::Group(g) => g.delimiter() == Delimiter::Bracket,
+                        _ => false,
+                    }
+        ),
+        _ => false,
+    }
+}
+
+/// Names every `when` of a body that has no label: `when_k` for the k-th `when` of the
+/// body (1-based, labelled ones counted), written as a label after `when`, so that an
+/// instance prefixes it like any name it declares (`stop.when_1`).
+fn label_whens(body: TokenStream) -> TokenStream {
+    let mut out = TokenStream::new();
+    let mut k = 0;
+    for statement in statements(body) {
+        if !starts_when(&statement) {
+            out.extend(statement);
+            continue;
+        }
+        k += 1;
+        let at = statement.len() - skip_attributes(&statement).len();
+        let labelled = matches!(
+            (statement.get(at + 1), statement.get(at + 2)),
+            (Some(TokenTree::Ident(_)), Some(TokenTree::Punct(colon)))
+                if colon.as_char() == ':' && colon.spacing() == proc_macro2::Spacing::Alone
+        );
+        if labelled {
+            out.extend(statement);
+            continue;
+        }
+        let span = statement[at].span();
+        let mut statement = statement;
+        statement.splice(
+            at + 1..at + 1,
+            [
+                TokenTree::Ident(Ident::new(&format!("when_{k}"), span)),
+                TokenTree::Punct(proc_macro2::Punct::new(':', proc_macro2::Spacing::Alone)),
+            ],
+        );
+        out.extend(statement);
+    }
+    out
 }
 
 /// `Submodel name(args);`

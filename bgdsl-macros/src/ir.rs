@@ -47,6 +47,10 @@ pub struct Graph {
     /// The bond-graph lints the model allows (`#[allow(derivative_causality)]`), in
     /// the order written.
     pub allowances: Vec<Allowance>,
+    /// Discrete modes in declaration order: the last states.
+    pub modes: Vec<crate::events::Mode>,
+    /// Events (`when` blocks) in declaration order.
+    pub events: Vec<crate::events::Event>,
 }
 
 /// One bond-graph lint allowed somewhere in the model.

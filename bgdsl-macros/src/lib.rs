@@ -18,6 +18,9 @@ mod derived;
 mod dims;
 mod equations;
 mod errors;
+mod event_code;
+mod event_syntax;
+mod events;
 mod expand;
 mod flatten;
 mod hoist;
@@ -372,3 +375,7 @@ pub fn bond_graph(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
 #[cfg(test)]
 #[path = "tests/expand_all.rs"]
 mod expand_all;
+
+#[cfg(test)]
+#[path = "tests/events.rs"]
+mod events_tests;

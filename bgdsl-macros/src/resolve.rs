@@ -49,6 +49,8 @@ pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
                     scope: AllowScope::Model,
                 })
                 .collect(),
+            modes: Vec::new(),
+            events: Vec::new(),
         },
         components: Vec::new(),
     };
@@ -57,6 +59,7 @@ pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
     let mut inits = Vec::new();
     let mut states = Vec::new();
     let mut ders = Vec::new();
+    let mut whens = Vec::new();
     for stmt in model.stmts {
         match stmt {
             Stmt::Param(param) => resolver.declare_param(param),
@@ -66,6 +69,13 @@ pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
             Stmt::Init(init) => inits.push(init),
             Stmt::State(state) => states.push(state),
             Stmt::Der(der) => ders.push(der),
+            Stmt::Mode(mode) => resolver.declare_mode(mode),
+            Stmt::When(when) => {
+                if let Some(label) = &when.label {
+                    resolver.claim(label, Named::Event);
+                }
+                whens.push(when);
+            }
         }
     }
     resolver.declare_states(states, ders);
@@ -94,6 +104,7 @@ pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
     for init in inits {
         resolver.initial_condition(init);
     }
+    crate::events::resolve(&mut resolver.graph, whens, &mut resolver.errors);
     resolver.lint_expressions();
     if resolver.errors.is_empty() {
         crate::dims::infer(&mut resolver.graph, &mut resolver.errors);
@@ -112,6 +123,8 @@ enum Named {
     Element(ElementId),
     Bond,
     State,
+    Mode,
+    Event,
 }
 
 struct Resolver {
@@ -254,6 +267,17 @@ impl Resolver {
             inverse: decl.inverse,
             bonds: Vec::new(),
         });
+    }
+
+    fn declare_mode(&mut self, mode: crate::event_syntax::ModeDecl) {
+        if self.claim(&mode.name, Named::Mode) {
+            self.graph.modes.push(crate::events::Mode {
+                doc: crate::codegen::doc_text(&mode.attrs),
+                name: mode.name,
+                kind: mode.kind,
+                init: mode.init,
+            });
+        }
     }
 
     /// Kinematic states and their derivatives: one `der` for each `state`.
@@ -447,6 +471,17 @@ impl Resolver {
                          help: to bring its value into the graph, bond an element whose law \
                          reads it, e.g. a source `Sf drive = {name};`"
                     ),
+                );
+                None
+            }
+            Some((Named::Mode | Named::Event, _)) => {
+                let what = match self.names.get(&name.to_string()) {
+                    Some((Named::Mode, _)) => "a mode",
+                    _ => "an event",
+                };
+                self.errors.at(
+                    name.span(),
+                    format!("`{name}` is {what}, not an element: bonds connect elements"),
                 );
                 None
             }
@@ -839,6 +874,9 @@ impl Resolver {
         for state in &graph.kinematics {
             lookup.add(&state.name, Target::State);
         }
+        for mode in &graph.modes {
+            lookup.add(&mode.name, Target::Mode);
+        }
         // Names whose declaration failed were reported (or were declared but left out
         // of the graph for a reported reason): they are not unknown.
         for name in self.poisoned.iter().chain(self.names.keys()) {
@@ -885,6 +923,7 @@ impl Resolver {
             let context = format!("the derivative of state `{}`", state.name);
             lint(&state.der, &lookup, &[], &context, &mut self.errors);
         }
+        crate::events::lint(graph, &lookup, &mut self.errors);
         crate::components::normalise_initial_values(&mut self.graph, &mut self.errors);
     }
 }

@@ -100,6 +100,7 @@ impl Env<'_> {
             };
         }
         let known = graph.kinematics.iter().any(|k| k.name == *name)
+            || graph.modes.iter().any(|m| m.name == *name)
             || graph
                 .element_ids()
                 .any(|id| graph.element(id).name == *name)
@@ -254,6 +255,8 @@ pub enum Named {
     Param,
     /// A kinematic state.
     State,
+    /// A discrete mode: a plain value.
+    Mode,
 }
 
 impl Named {
@@ -264,6 +267,7 @@ impl Named {
             Named::Bond => "bond",
             Named::Param => "parameter",
             Named::State => "state",
+            Named::Mode => "mode",
         }
     }
 }
@@ -418,7 +422,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                             }
                             return;
                         }
-                        Some(Named::Param) | Some(Named::State) => {}
+                        Some(Named::Param) | Some(Named::State) | Some(Named::Mode) => {}
                         Some(Named::Bond) => {
                             if word != "e" && word != "f" {
                                 self.errors.at(
@@ -456,7 +460,7 @@ impl<'ast> syn::visit::Visit<'ast> for Linter<'_> {
                         name.span(),
                         format!("bond `{name}` is not a value: read `{name}.e` or `{name}.f`"),
                     ),
-                    Some(Named::Param) | Some(Named::State) => {}
+                    Some(Named::Param) | Some(Named::State) | Some(Named::Mode) => {}
                     None if ["e", "f", "q", "p"].contains(&word.as_str()) && !self.own.contains(&word.as_str()) && !self.locals.contains(&word) => {
                         let own = if self.own.is_empty() {
                             "none: refer to signals by element, e.g. `spring.q`".to_string()
@@ -598,6 +602,21 @@ impl Rewriter<'_, '_> {
     }
 }
 
+impl Rewriter<'_, '_> {
+    /// Whether `expr` is an `i64` mode, read as a plain integer.
+    fn is_integer_mode(&self, expr: &Expr) -> bool {
+        as_ident(expr).is_some_and(|name| {
+            !self.locals.contains(&name.to_string())
+                && self
+                    .scope
+                    .graph
+                    .modes
+                    .iter()
+                    .any(|m| m.name == *name && m.kind == crate::events::ModeKind::Integer)
+        })
+    }
+}
+
 enum Lookup {
     Element(ElementId),
     Bond(crate::ir::BondId),
@@ -722,7 +741,11 @@ impl Rewriter<'_, '_> {
                         | MulAssign(_)
                         | DivAssign(_)
                 );
-                if numeric {
+                // An `i64` mode compares and adds with integers as written.
+                let integer = [&*binary.left, &*binary.right]
+                    .iter()
+                    .any(|side| self.is_integer_mode(side));
+                if numeric && !integer {
                     int_to_float(&mut binary.left);
                     int_to_float(&mut binary.right);
                 }

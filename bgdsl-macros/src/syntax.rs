@@ -157,6 +157,10 @@ pub enum Stmt {
     State(StateDecl),
     /// `der R = skew(w.f) * R;`
     Der(DerDecl),
+    /// `mode stuck: bool = false;`
+    Mode(crate::event_syntax::ModeDecl),
+    /// `when ball.q < 0.0 { reinit ball.p = -e * ball.p; }`
+    When(crate::event_syntax::WhenDecl),
 }
 
 /// A kinematic state: integrated, but not the storage of a bond-graph element.
@@ -491,7 +495,12 @@ fn parse_body(
         let start = body.fork();
         let start_cursor = body.cursor();
         let parsed = parse_stmt(body, &mut recovered).and_then(|stmt| {
-            if !body.peek(Token![;]) && !body.is_empty() && starts_statement(body) {
+            if matches!(stmt, Stmt::When(_)) {
+                // A `when` ends with its braces; a `;` after them is allowed.
+                if body.peek(Token![;]) {
+                    body.parse::<Token![;]>()?;
+                }
+            } else if !body.peek(Token![;]) && !body.is_empty() && starts_statement(body) {
                 // Only the `;` is missing: say so where it belongs and read on from the
                 // next statement, which is intact.
                 recovered
@@ -507,7 +516,11 @@ fn parse_body(
             Err(error) => {
                 recovered.errors.push(error);
                 poisoned.extend(declared_name(&start));
-                skip_past_semicolon(body);
+                if is_when(&start) {
+                    skip_past_braces(body);
+                } else {
+                    skip_past_semicolon(body);
+                }
             }
         }
     }
@@ -563,8 +576,11 @@ fn starts_statement(input: ParseStream) -> bool {
         return false;
     };
     let text = word.to_string();
+    if text == "when" && !fork.peek(Token![->]) && !fork.peek(Token![-]) {
+        return true;
+    }
     let statement_word =
-        ["param", "input", "state", "der", "init", "output"].contains(&text.as_str());
+        ["param", "input", "state", "der", "init", "output", "mode"].contains(&text.as_str());
     let element_word = ElementKind::from_word(&text).is_some();
     ((statement_word || element_word) && named(&fork))
         || (element_word && fork.peek(syn::token::Bracket))
@@ -582,7 +598,7 @@ fn keywords_declared(tokens: &TokenStream) -> Vec<String> {
         let introduces = match tt {
             TokenTree::Ident(word) => {
                 let word = word.to_string();
-                ["param", "input", "state", "output", "der"].contains(&word.as_str())
+                ["param", "input", "state", "output", "der", "mode"].contains(&word.as_str())
                     || ElementKind::from_word(&word).is_some()
             }
             TokenTree::Literal(lit) => ["0", "1"].contains(&lit.to_string().as_str()),
@@ -725,9 +741,41 @@ fn skip_past_semicolon(input: ParseStream) {
     });
 }
 
+/// Whether `input` (at a statement's start, attributes included) is a `when` block:
+/// the word `when` not starting a bond (`when -> x`).
+fn is_when(input: ParseStream) -> bool {
+    let fork = input.fork();
+    let _ = fork.call(Attribute::parse_outer);
+    fork.peek(crate::event_syntax::kw::when)
+        && !fork.peek2(Token![->])
+        && !(fork.peek2(Token![-]) && fork.peek3(syn::token::Bracket))
+}
+
+/// Error recovery for a `when`: drop tokens up to and including its braces.
+fn skip_past_braces(input: ParseStream) {
+    let _ = input.step(|cursor| {
+        let mut rest = *cursor;
+        while let Some((tt, next)) = rest.token_tree() {
+            rest = next;
+            if matches!(&tt, TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace)
+            {
+                break;
+            }
+        }
+        Ok(((), rest))
+    });
+}
+
 /// One statement, without its `;`.
 fn parse_stmt(input: ParseStream, recovered: &mut Recovered) -> syn::Result<Stmt> {
+    if is_when(input) {
+        let attrs = input.call(Attribute::parse_outer)?;
+        return crate::event_syntax::parse_when(input, attrs).map(Stmt::When);
+    }
     let attrs = input.call(Attribute::parse_outer)?;
+    if input.peek(crate::event_syntax::kw::mode) && input.peek2(Ident::peek_any) {
+        return crate::event_syntax::parse_mode(input, attrs).map(Stmt::Mode);
+    }
     let lookahead = input.lookahead1();
     let stmt = if lookahead.peek(kw::param) || lookahead.peek(kw::input) {
         let is_input = input.peek(kw::input);

@@ -118,7 +118,10 @@ pub fn check(graph: &Graph, equations: &Equations) -> Units {
             }
             (None, None) => Described {
                 unit: String::new(),
-                doc: String::new(),
+                doc: state
+                    .mode
+                    .and_then(|m| graph.modes[m].doc.clone())
+                    .unwrap_or_default(),
             },
         })
         .collect();

@@ -88,6 +88,8 @@ fn build(recipe: &Recipe) -> Graph {
         dissolved: Vec::new(),
         storage: Vec::new(),
         allowances: Vec::new(),
+        modes: Vec::new(),
+        events: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());
