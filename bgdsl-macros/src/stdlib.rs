@@ -95,6 +95,201 @@ pub const TEXT: &str = r#"
         a -> rel -> b;
         rel -> to_frame -> d -> { spring, damper };
     }
+
+    /// An electrical switch between two nodes `a` and `b` (0-junctions: their efforts
+    /// are the node voltages): a resistor with two laws chosen by the mode `closed`,
+    /// `e = r_on f` (closed) and `f = g_off e` (open), where `e` is the voltage from `a`
+    /// to `b` and `f` the current from `a` to `b` through the branch `branch` (a
+    /// 1-junction). It closes when `control` rises through 0 and opens when it falls
+    /// through 0 (events `close`, `open`); `control` is any expression of the model
+    /// (a clock, a comparator, a controller's output). The user supplies `r_on > 0`
+    /// (the closed law is also used as `f = e / r_on` when the nodes fix the voltage,
+    /// the usual case) and `g_off >= 0` (0: an ideal open switch, usable only where
+    /// the nodes fix the voltage), and `closed0`, the mode at the start: an indicator
+    /// starts no event at t0, so a switch whose control is already positive must start
+    /// closed. Element `law` (an R); mode `closed`.
+    submodel Switch(a, b, control, r_on, g_off, closed0 = false) {
+        /// conducting (r_on) rather than blocking (g_off)
+        mode closed: bool = closed0;
+        1 branch;
+        R law {
+            e = if closed { r_on * f } else { f / g_off },
+            f = if closed { e / r_on } else { g_off * e },
+        };
+        a -> branch -> b;
+        branch -> law;
+        /// close: the control rises through 0
+        when control > 0.0 { closed = true; }
+        /// open: the control falls through 0
+        when control < 0.0 { closed = false; }
+    }
+
+    /// An ideal diode between two nodes `a` (anode) and `b` (cathode), as
+    /// [`Switch`] whose control is its own voltage `law.e` from anode to cathode: it
+    /// conducts by `e = r_on f` and blocks by `f = g_off e`. Both laws pass through the
+    /// origin with positive slope, so the voltage and the current have one sign and the
+    /// voltage crossing 0 is the instant either would cross it: it switches on when the
+    /// voltage rises through 0 (event `on`) and off when it falls through 0 (`off`).
+    /// With the nodes fixing the voltage (a source or a capacitor at each node, the
+    /// usual case) the diode computes its current, `f = e / r_on` or `g_off e`, and
+    /// `g_off = 0` is an ideal block. The user supplies `r_on > 0` (the forward path's
+    /// resistance: a source's internal resistance can be folded into it) and `on0`,
+    /// the mode at the start (an indicator starts no event at t0: a diode whose
+    /// voltage starts at 0 and rises must start on). Element `law` (an R: `law.e` the
+    /// voltage, `branch.f` the current); mode `on`.
+    submodel Diode(a, b, r_on, g_off = 0.0, on0 = false) {
+        /// conducting
+        mode on: bool = on0;
+        1 branch;
+        R law {
+            e = if on { r_on * f } else { f / g_off },
+            f = if on { e / r_on } else { g_off * e },
+        };
+        a -> branch -> b;
+        branch -> law;
+        /// on: the voltage rises through 0
+        when law.e > 0.0 { on = true; }
+        /// off: the voltage falls through 0
+        when law.e < 0.0 { on = false; }
+    }
+
+    /// An impact with restitution on a stop, for a body that reaches it: when `gap`
+    /// (any expression of the model, positive while the body is clear of the stop)
+    /// falls through 0 (event `hit`), the body's momentum `body.p` (an I element,
+    /// handed by name) is reinitialised to `-restitution · body.p` (Newton's law of
+    /// restitution, 0 <= restitution <= 1; the energy it removes is in the event's
+    /// energy change). An impact whose rebound speed `restitution · |body.f|` is below
+    /// `v_rest` comes to rest instead (Zeno's cascade of ever shorter bounces, cut
+    /// where the physics no longer resolves it): mode `resting`, momentum 0, and the
+    /// stop's reaction `held` acts on the body's junction `at` (a 1-junction with the
+    /// body's velocity) through the source `support`. `held` is the force (along `at`'s
+    /// positive direction) that keeps the body at rest, which the model supplies
+    /// (a ball's weight `m * g`); the body rests only if that force pushes away from
+    /// the stop, `dir · held > 0`, where `dir` is +1 when the gap opens as `at` moves
+    /// positively and -1 otherwise; it lifts off when `dir · held` falls through 0
+    /// (event `lift`). `v_rest = 0` never rests (a run of ever shorter bounces then ends
+    /// with the runtime's chattering error).
+    submodel Impact(at, body, gap, dir, restitution, v_rest = 0.0, held = 0.0) {
+        /// at rest on the stop
+        mode resting: bool = false;
+        Se support = if resting { held } else { 0.0 };
+        support -> at;
+        /// hit: the gap closes
+        when gap < 0.0 {
+            if restitution * body.f.abs() < v_rest && dir * held > 0.0 {
+                resting = true;
+                reinit body.p = 0.0;
+            } else {
+                reinit body.p = -restitution * body.p;
+            }
+        }
+        /// lift: the support would have to pull
+        when dir * held < 0.0 { resting = false; }
+    }
+
+    /// A one-sided spring-damper contact at a stop: in mode `touching` a spring of
+    /// stiffness `k` and a damper `c` act on the junction `at` (a 1-junction with the
+    /// body's velocity), and nothing otherwise. Contact begins when `gap` (any
+    /// expression, positive while clear) falls through 0 (event `touch`), where the
+    /// spring's deflection `spring.q` is set to `dir · gap` (≈ 0): in contact it is the
+    /// displacement of `at` from the stop's surface and the force on `at` is
+    /// `-(k q + c v)`. It ends when that force would pull, `dir (k spring.q + c at.f)`
+    /// rising through 0 (event `release`): a contact only pushes. `dir` is +1 when the
+    /// gap opens as `at` moves positively, -1 otherwise. Elements `spring` (a C; its
+    /// deflection follows `at` in both modes, its energy counts only in contact, and
+    /// the energy the release drops is that event's energy change) and `damper` (an R).
+    submodel Contact(at, gap, dir, k, c) {
+        /// pressed against the stop
+        mode touching: bool = false;
+        /// the contact's deflection along `at` (meaningful in contact)
+        C spring { e = if touching { k * q } else { 0.0 } };
+        R damper { e = if touching { c * f } else { 0.0 } };
+        at -> { spring, damper };
+        /// touch: the gap closes
+        when gap < 0.0 {
+            touching = true;
+            reinit spring.q = dir * gap;
+        }
+        /// release: the contact force would pull
+        when dir * (k * spring.q + c * at.f) > 0.0 { touching = false; }
+    }
+
+    /// Kinetic Coulomb friction between two ports `a` and `b` (1-junctions: velocities,
+    /// or angular velocities): a force of magnitude `fc` against the slip velocity
+    /// `law.f = a − b`, its direction the mode `forward` (true: slip positive, the
+    /// force `law.e = fc` drags `b` forward and holds `a` back). The mode switches when
+    /// the slip crosses 0 (events `backward` and `ahead`). No sticking: where the slip
+    /// would stay at 0 the direction flips at every step and the run ends with the
+    /// runtime's chattering error; use [`StickSlip`] there. The user supplies
+    /// `forward0`, the sign of the initial slip (true for positive). Element `law`
+    /// (an R: its power is the friction loss).
+    submodel CoulombFriction(a, b, fc, forward0 = true) {
+        /// slipping with a − b > 0
+        mode forward: bool = forward0;
+        0 rel;
+        R law { e = if forward { fc } else { -fc } };
+        a -> rel -> b;
+        rel -> law;
+        /// backward: the slip falls through 0
+        when law.f < 0.0 { forward = false; }
+        /// ahead: the slip rises through 0
+        when law.f > 0.0 { forward = true; }
+    }
+
+    /// Coulomb friction with stiction between two ports `a` and `b` (1-junctions):
+    /// slipping, the force `law.e` on `b` is `fc` against the slip `law.f = a − b`
+    /// (mode `forward`, as [`CoulombFriction`]); stuck (mode `stuck`), it is `held`,
+    /// the force on `b` that keeps the slip at 0, which the model supplies (it is the
+    /// constraint force: for a mass on a belt, minus the other forces on the mass plus
+    /// its mass times the belt's acceleration). When the slip crosses 0 (events
+    /// `backward`, `ahead`) the contact sticks if `|held| <= fs`, and otherwise the
+    /// slip reverses; stuck, it breaks away when `held` leaves [-fs, fs] (events
+    /// `break_ahead`, `break_back`), slipping in the direction `held` pointed. A
+    /// stuck contact keeps the slip it had at the event (of the order of the event
+    /// time tolerance times the slip's acceleration). The user supplies `fs >= fc`,
+    /// `held`, and the modes at the start (`stuck0`, `forward0`). Element `law` (an
+    /// R: its power is the friction loss, ≈ 0 while stuck).
+    submodel StickSlip(a, b, fc, fs, held, stuck0 = false, forward0 = true) {
+        /// stuck: no slip, the force is `held`
+        mode stuck: bool = stuck0;
+        /// slipping with a − b > 0
+        mode forward: bool = forward0;
+        0 rel;
+        R law { e = if stuck { held } else if forward { fc } else { -fc } };
+        a -> rel -> b;
+        rel -> law;
+        /// backward: the slip falls through 0
+        when law.f < 0.0 {
+            if !stuck {
+                if held.abs() <= fs { stuck = true; } else { forward = false; }
+            }
+        }
+        /// ahead: the slip rises through 0
+        when law.f > 0.0 {
+            if !stuck {
+                if held.abs() <= fs { stuck = true; } else { forward = true; }
+            }
+        }
+        /// break_ahead: the force needed to stick exceeds fs
+        when held > fs {
+            if stuck { stuck = false; forward = true; }
+        }
+        /// break_back: the force needed to stick falls below -fs
+        when held < -fs {
+            if stuck { stuck = false; forward = false; }
+        }
+    }
+
+    /// A friction clutch between two shafts `a` and `b` (1-junctions: angular
+    /// velocities): [`StickSlip`] with torques, slipping at the torque `tk` and locked
+    /// while the torque `held` that keeps both shafts at one speed (which the model
+    /// supplies: for inertias J1, J2 driven by torques T1, T2, `(J2 T1 − J1 T2) /
+    /// (J1 + J2)`) stays within `ts`. It engages when the speeds match. Instance
+    /// `plates` (its modes `plates.stuck`, `plates.forward`, its R `plates.law`).
+    submodel Clutch(a, b, tk, ts, held, locked0 = false, forward0 = true) {
+        StickSlip plates(a = a, b = b, fc = tk, fs = ts, held = held,
+            stuck0 = locked0, forward0 = forward0);
+    }
 "#;
 
 /// The standard submodels, parsed.
@@ -131,7 +326,14 @@ mod should {
                 "OffsetPoint",
                 "Ground",
                 "Coupling",
-                "FrameCoupling"
+                "FrameCoupling",
+                "Switch",
+                "Diode",
+                "Impact",
+                "Contact",
+                "CoulombFriction",
+                "StickSlip",
+                "Clutch"
             ]
         );
     }

@@ -6,6 +6,8 @@
 //! - [`DcMotor`]: a DC motor driving a geared, compliant, inertial load.
 //! - [`QuarterCar`]: the quarter-car suspension model over a road profile.
 //! - [`Duffing`]: the forced Duffing oscillator (a cubic spring).
+//! - [`hybrid`]: models with events and modes (bouncing ball, rectifier, end stop,
+//!   clutch).
 //!
 //! The hidden module `reference` holds hand-written equations of some of them, for
 //! the tests and benchmarks that compare them with the generated code.
@@ -16,6 +18,7 @@ pub mod control;
 pub mod dc_motor;
 pub mod dc_servo;
 pub mod duffing;
+pub mod hybrid;
 pub mod interrupt;
 pub mod oscillator;
 pub mod plot;
