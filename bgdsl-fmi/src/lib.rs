@@ -40,6 +40,7 @@ use std::path::{Path, PathBuf};
 use bgdsl_fmi_core::{ModelDescription, ModelEntry};
 use models::catalog::{Catalogued, Checks};
 use models::dc_servo::DcServo;
+use models::hybrid::{BouncingBall, HalfWaveRectifier};
 use models::quick_return::QuickReturn;
 use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -56,6 +57,8 @@ pub static MODELS: &[ModelEntry] = &[
     entry::<QuarterCar>("quarter_car"),
     entry::<Duffing>("duffing"),
     entry::<DcServo>("dc_servo"),
+    ModelEntry::new::<BouncingBall>("bouncing_ball"),
+    ModelEntry::new::<HalfWaveRectifier>("half_wave_rectifier"),
 ];
 
 const fn entry<M: Catalogued>(identifier: &'static str) -> ModelEntry {

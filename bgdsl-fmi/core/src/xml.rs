@@ -32,9 +32,16 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
     // Capabilities. Both interfaces are served by the same binary.
     x.push_str("  <ModelExchange\n");
     attr(&mut x, 4, "modelIdentifier", identifier);
-    // An importer that locates every sign change of the indicators needs no
-    // fmi2CompletedIntegratorStep: the FMU takes its reference at each event.
-    attr(&mut x, 4, "completedIntegratorStepNotNeeded", "true");
+    // With events, the FMU needs fmi2CompletedIntegratorStep: each accepted step's end
+    // is the reference its indicators' crossings are measured from, as in the
+    // runtime (an indicator exactly 0 at the last event takes its sign from the
+    // next step's end).
+    let not_needed = if d.variables.sizes().events == 0 {
+        "true"
+    } else {
+        "false"
+    };
+    attr(&mut x, 4, "completedIntegratorStepNotNeeded", not_needed);
     common_capabilities(&mut x);
     x.push_str("  />\n");
     x.push_str("  <CoSimulation\n");
