@@ -303,6 +303,11 @@ fn the_description_declares_the_indicators_and_the_modes_as_discrete_variables()
     let description = ModelDescription::of::<Bouncing>();
     let xml = model_description_xml(&description, "bouncing");
     assert!(xml.contains("numberOfEventIndicators=\"2\""), "{xml}");
+    // Each accepted step's end is the reference the crossings are measured from.
+    assert!(
+        xml.contains("completedIntegratorStepNotNeeded=\"false\""),
+        "{xml}"
+    );
     for mode in ["bounces", "rebound"] {
         let at = xml.find(&format!("name=\"{mode}\"")).expect(mode);
         let line = &xml[at..at + xml[at..].find('>').unwrap()];
@@ -381,6 +386,54 @@ fn model_exchange_handles_an_impact_where_the_importer_located_it() {
         );
         assert_eq!(mode_values, [2.0, v2]);
         assert_eq!(fmi2Terminate(c), Status::Ok);
+        fmi2FreeInstance(c);
+    }
+}
+
+/// An indicator exactly 0 where initialisation ends (the ball thrown up from the
+/// floor) takes its sign from the next accepted step, without an event there; the
+/// impact that follows fires.
+#[test]
+fn an_indicator_zero_at_the_start_takes_its_sign_from_the_next_step() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let guid = CString::new(ModelDescription::of::<Bouncing>().guid).unwrap();
+    let start = [vr::<Bouncing>("h"), vr::<Bouncing>("v")];
+    let (mut enter, mut stop) = (FALSE, FALSE);
+    let mut info = EventInfo::QUIET;
+    // SAFETY: valid strings and callbacks; arrays of the lengths passed.
+    unsafe {
+        let c = fmi2Instantiate(
+            c"ball".as_ptr(),
+            0,
+            guid.as_ptr(),
+            core::ptr::null(),
+            &cb,
+            FALSE,
+            TRUE,
+        );
+        assert_eq!(
+            fmi2SetReal(c, start.as_ptr(), 2, [0.0, 2.0].as_ptr()),
+            Status::Ok
+        );
+        assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+        assert_eq!(fmi2NewDiscreteStates(c, &mut info), Status::Ok);
+        assert_eq!(info.values_of_continuous_states_changed, FALSE);
+        assert_eq!(fmi2EnterContinuousTimeMode(c), Status::Ok);
+        assert_eq!(fmi2SetTime(c, 0.1), Status::Ok);
+        assert_eq!(
+            fmi2SetContinuousStates(c, [0.15, 1.0].as_ptr(), 2),
+            Status::Ok
+        );
+        assert_eq!(
+            fmi2CompletedIntegratorStep(c, TRUE, &mut enter, &mut stop),
+            Status::Ok
+        );
+        assert_eq!(enter, FALSE);
+        let (info, after) = event_at(c, 0.41, [-1e-12, -2.0]);
+        assert_eq!(info.values_of_continuous_states_changed, TRUE);
+        assert_eq!(after, [-1e-12, 2.0 * E]);
         fmi2FreeInstance(c);
     }
 }
