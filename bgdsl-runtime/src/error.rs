@@ -395,16 +395,29 @@ impl fmt::Display for SolverError {
                 t,
                 count,
                 interval,
-            } => write!(
-                f,
-                "at t = {}, event `{event}` chattered: it fired {count} times in a row, the \
-                 last {} s after the one before; the model switches ever faster (Zeno \
-                 behaviour, or an action that leaves the state where the event fires \
-                 again): give it a rest or stick mode that ends the switching, or widen \
-                 `EventOptions::min_interval` / `max_repeats` if the switching is real",
-                Num(*t),
-                Num(*interval)
-            ),
+            } => {
+                write!(f, "at t = {}, event `{event}` chattered: ", Num(*t))?;
+                if *interval > 0.0 {
+                    write!(
+                        f,
+                        "it fired {count} times in a row, each within `min_interval` of \
+                         the one before (the last {} s after it)",
+                        Num(*interval)
+                    )?;
+                } else {
+                    write!(
+                        f,
+                        "it fired again within the time tolerance of its previous \
+                         firing ({count} quick firings in a row)"
+                    )?;
+                }
+                f.write_str(
+                    "; the model switches ever faster (Zeno behaviour, or an action that \
+                     leaves the state where the event fires again): give it a rest or \
+                     stick mode that ends the switching, or widen \
+                     `EventOptions::min_interval` / `max_repeats` if the switching is real",
+                )
+            }
             SolverError::TooManyEvents { event, t, limit } => write!(
                 f,
                 "at t = {}, event `{event}` went over the limit of {limit} events in one \

@@ -395,12 +395,16 @@ impl<'m, M: Model> Simulation<'m, M> {
             cause,
             SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
         );
+        if !explicable {
+            // Events, budgets: nothing stiffness explains (and no estimate to allocate).
+            return cause;
+        }
         let bound = match self.solver {
             Solver::Rk4(_) => stiffness::RK4_STABILITY,
             _ => stiffness::DOPRI5_STABILITY,
         };
         match stiffness::spectral_radius(self.model.get(), t0, x0) {
-            Some(rho) if explicable && rho * step > bound => SolverError::ProbablyStiff {
+            Some(rho) if rho * step > bound => SolverError::ProbablyStiff {
                 cause: Box::new(cause),
                 method: self.solver.name(),
                 step,
