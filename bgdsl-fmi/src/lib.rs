@@ -33,6 +33,13 @@
 //! other model code) is refused with a message that lists the GUIDs this library
 //! serves. The FMI functions are the `extern "C"` items of [`fmi2`]; see
 //! [`bgdsl_fmi_core`] for the variables, value references and state machine.
+//!
+//! # Hybrid models
+//!
+//! The bouncing ball and the ideal half-wave rectifier have events and modes: their
+//! FMUs declare event indicators for Model Exchange and handle the events inside each
+//! Co-Simulation step (see [`bgdsl_fmi_core`], "Events and modes");
+//! `tests/fmpy_events.rs` runs them in FMPy against the closed forms.
 #![warn(missing_docs)]
 
 use std::path::{Path, PathBuf};
