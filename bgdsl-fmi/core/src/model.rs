@@ -340,18 +340,19 @@ impl<M: Exportable> FmuModel for Adapter<M> {
             Holder::Stepping(stepper) => {
                 stepper.advance_to(t).map_err(|e| e.to_string())?;
                 x.copy_from_slice(stepper.state());
-                // A stop action ends the advance at its event, before `t`.
-                if stepper.time() >= t {
-                    return Ok(None);
-                }
-                let event = stepper
+                // A stop action ends the advance at its event: before `t`, or at `t`
+                // exactly.
+                let stop = stepper
                     .events()
                     .iter()
                     .filter(|e| e.action == EventAction::Stop)
                     .last()
-                    .map_or("(beyond the event log's room)", |e| e.name);
+                    .map(|e| e.name);
+                if stop.is_none() && stepper.time() >= t {
+                    return Ok(None);
+                }
                 Ok(Some(Stopped {
-                    event,
+                    event: stop.unwrap_or("(beyond the event log's room)"),
                     t: stepper.time(),
                 }))
             }

@@ -124,7 +124,53 @@ type Stopping = Ball<3>;
 static MODELS: &[ModelEntry] = &[
     ModelEntry::new::<Bouncing>("bouncing"),
     ModelEntry::new::<Renamed>("stopping"),
+    ModelEntry::new::<Alarm>("alarm"),
 ];
+
+/// A clock whose alarm stops the run at `t = 1` (`x' = 1`, event `ring` when `t - 1`
+/// rises through 0): a stop that can fall on a communication point exactly.
+#[derive(Clone, Debug, Default)]
+struct Alarm;
+
+impl Model for Alarm {
+    type Params = ();
+    const NAME: &'static str = "Alarm";
+    const STATE_NAMES: &'static [&'static str] = &["x"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    const EVENTS: &'static [Event] = &[Event {
+        name: "ring",
+        direction: Direction::Rising,
+        doc: "stops the run at t = 1",
+    }];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0[0] = 0.0;
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, _x: &[T], dx: &mut [T]) {
+        dx[0] = T::from_f64(1.0);
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+    fn default_solver(&self) -> Solver {
+        Solver::dopri5()
+    }
+    fn event_indicators(&self, t: f64, _x: &[f64], g: &mut [f64]) {
+        g[0] = t - 1.0;
+    }
+    fn apply_event(&self, _index: usize, _t: f64, _x: &mut [f64]) -> EventAction {
+        EventAction::Stop
+    }
+}
+
+impl WithInputs for Alarm {
+    type Inputs = ();
+    const INPUTS: &'static [InputInfo] = &[];
+    fn inputs(&self) {}
+    fn set_inputs(&mut self, _: ()) {}
+    fn input_values(&self, _: &mut [f64]) {}
+    fn set_input_values(&mut self, _: &[f64]) {}
+}
 
 /// [`Stopping`] under a name of its own: `fmi2Instantiate` picks a model by its GUID,
 /// which hashes the name and the variables, the same for both balls otherwise.
@@ -704,4 +750,29 @@ fn a_stop_inside_a_co_simulation_step_is_reported_through_the_status() {
     assert!(events[5].ends_with("; stop"), "{events:?}");
     assert!((values[0] - v3).abs() < 1e-9, "{values:?} vs {v3}");
     assert_eq!(values[1], 3.0);
+}
+
+/// A stop on the communication point that ends a step is still a stop: the step
+/// returns fmi2Discard and `fmi2Terminated` is true, at that point.
+#[test]
+fn a_stop_at_the_end_of_a_co_simulation_step_is_reported_too() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let c = running::<Alarm>(1, &cb);
+    let (mut last, mut terminated) = (0.0, FALSE);
+    // SAFETY: a live component and arrays of the lengths passed.
+    unsafe {
+        assert_eq!(fmi2DoStep(c, 0.0, 0.5, TRUE), Status::Ok);
+        assert_eq!(
+            fmi2DoStep(c, 0.5, 0.5, TRUE),
+            Status::Discard,
+            "{}",
+            log.last()
+        );
+        assert_eq!(fmi2GetBooleanStatus(c, 3, &mut terminated), Status::Ok);
+        assert_eq!(fmi2GetRealStatus(c, 2, &mut last), Status::Ok);
+        fmi2FreeInstance(c);
+    }
+    assert_eq!(terminated, TRUE);
+    assert!((last - 1.0).abs() <= 1e-12, "stopped at {last}");
 }
