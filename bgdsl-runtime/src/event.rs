@@ -15,6 +15,45 @@
 //! rewriting the state. **A discontinuity goes through a mode**, never through an `if`
 //! on a continuous signal, so the right-hand side is smooth inside every step.
 //!
+//! # What the driver does, precisely
+//!
+//! - **References.** Each indicator's reference is its value at the start of a run
+//!   (no event fires at `t0`), after every step without an event, and after every
+//!   event (re-evaluated at `(t*, x+)`). A reference of exactly 0 fires in no direction
+//!   ([`Direction::fires`]): it takes its sign from the indicator's next non-zero
+//!   value. A [`Stepper`](crate::Stepper) starts a run at every advance, so its
+//!   references are taken afresh there (and after `set_state`, `restore`).
+//! - **Bounces.** An event that fired and, after its action, sits at zero or on the
+//!   side it crossed to (a ball at the floor, `h ≈ -1e-13`, its speed reversed) is
+//!   looked at `1e-8 · max(1, |t|)` s later along the new motion (one explicit Euler
+//!   step). If it heads back to the side it came from, its reference is that side: a
+//!   step that ends with it crossed again (a whole flight inside one step) fires, and
+//!   the driver finds the point where it was back by halving the step towards `t*`.
+//!   If not, it must leave the side it stands on before it can fire again.
+//! - **Location.** The earliest crossing in the step, by the Illinois method on the
+//!   method's dense output (DOPRI5's continuous extension, Radau5's collocation
+//!   polynomial, Rodas4's interpolant; RK4 and fixed-step DOPRI5 re-take the step from
+//!   its start with a shortened length), to a bracket of
+//!   [`EventOptions::time_tolerance`] plus 4 ulps of `t`. The event time is the
+//!   bracket's right end, where the indicator has crossed.
+//! - **Simultaneous events**, crossing within the tolerance of the earliest, are
+//!   handled in index order, each action on the state the one before left. Later
+//!   crossings in the same step are found again after the restart.
+//! - **Samples** before `t*` come from the dense output; a sample at exactly `t*`
+//!   records the state after the event.
+//! - **Restart.** The step is cut at `t*` and the method starts afresh from `(t*, x+)`:
+//!   explicit methods without their FSAL derivative and step-size history, with a new
+//!   first step (a fixed-step method's next step ends on its next grid point); stiff
+//!   ones with a new Jacobian, new LU factors, no controller history and no start
+//!   values extrapolated from the step before.
+//! - **Stop** ([`EventAction::Stop`]) ends the run at `t*` with a sample there (the
+//!   state after) and returns `Ok`; [`Simulation::time`](crate::Simulation::time) is
+//!   `t*`.
+//! - **Limits.** A step is seen only at its end: an indicator that crosses and
+//!   crosses back within one step (and is not armed by a bounce) is not seen. An
+//!   action that moves another indicator across zero does not fire it (its reference
+//!   is taken after the action).
+//!
 //! # The chattering rule
 //!
 //! The runtime never loops forever on events. A run ends with

@@ -16,6 +16,13 @@
 //! integrator carries over only the step size it has learnt. Failures are
 //! [`SolverError`]s; on error `t` and `x` hold the last point reached.
 //!
+//! They do not handle events ([`Model::EVENTS`]): they integrate a model's modes as
+//! the constants they are between events, but neither detect nor locate crossings nor
+//! apply actions. A host on these integrators evaluates
+//! [`Model::event_indicators`] between its calls itself; the std driver
+//! ([`Simulation`](crate::Simulation), [`Stepper`](crate::Stepper)) handles events
+//! fully.
+//!
 //! ```
 //! use bgdsl_runtime::rk::{DormandPrince, Rk4};
 //! use bgdsl_runtime::{DormandPrinceOptions, FixedStep, Model, Scalar};

@@ -18,6 +18,11 @@ use crate::solver::{Simulation, Solver, Stats};
 /// between calls never reaches into the step-size history or a stale Jacobian. All
 /// memory is taken when the stepper is made: advancing allocates nothing.
 ///
+/// A model's events ([`crate::event`]) are handled inside each advance as in a
+/// [`Simulation`] run and listed in [`Stepper::events`]; a stop action ends the advance
+/// at the event ([`Stepper::time`] says where). Events the host causes by changing
+/// inputs between advances are the host's to handle (see [`Stepper::events`]).
+///
 /// ```
 /// use bgdsl_runtime::{bond_graph, Solver, Stepper};
 ///
@@ -134,7 +139,9 @@ impl<M: Model + 'static> Stepper<M> {
 
     /// Integrates from the current time to `t` (with the inputs as they are now) and
     /// returns the outputs there, in the order of [`Model::OUTPUT_NAMES`]. Asking for
-    /// the current time only evaluates the outputs.
+    /// the current time only evaluates the outputs. The events inside the interval are
+    /// handled and listed in [`Stepper::events`]; an event that stops the run ends the
+    /// advance at its time, with the outputs there (after the event).
     ///
     /// # Errors
     ///

@@ -7,6 +7,13 @@
 //! | `quick_return` | [`QuickReturn`]: the flagship, writes the spec's results file and the paper's figures |
 //! | `quick_return_rigid` | [`QuickReturnRigid`]: the same mechanism with rigid joints, the crank driven by a flow source; the same results file and figures |
 //! | `quick_return_rigid_coupled` | [`QuickReturnRigidCoupled`]: rigid joints, the crank driven through the compliant drive coupling |
+//! | `quick_return_friction` | [`QuickReturnFriction`]: the flagship with Coulomb friction and stiction in its slides; the same results file and figures, the friction's columns and charts, and a comparison with the run without friction |
+//! | `bouncing_ball` | [`BouncingBall`]: impacts with restitution, a rest mode |
+//! | `rectifier` | [`HalfWaveRectifier`]: an ideal diode switched by events |
+//! | `rectifier_exp` | [`HalfWaveRectifierExp`]: the same with an exponential-law diode |
+//! | `stick_slip` | [`BeltFriction`]: a mass on a belt, stick and slip |
+//! | `end_stop` | [`EndStop`]: a mass hitting an end stop with restitution |
+//! | `clutch` | [`ClutchEngagement`]: a clutch locking at a speed match |
 //! | `oscillator` | [`Oscillator`] |
 //! | `rlc` | [`SeriesRlc`] |
 //! | `dc_motor` | [`DcMotor`] |
@@ -92,6 +99,8 @@
 mod adapter;
 mod checks;
 mod columns;
+pub mod compare;
+mod events;
 mod figures;
 pub mod folder;
 mod params;
@@ -120,7 +129,11 @@ pub use run::{
 pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;
+use crate::hybrid::{
+    BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
+};
 use crate::quick_return::QuickReturn;
+use crate::quick_return_hybrid::QuickReturnFriction;
 use crate::quick_return_rigid::{QuickReturnRigid, QuickReturnRigidCoupled};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -151,6 +164,12 @@ pub struct Entry {
     pub interval: f64,
     /// The solver a run uses unless told otherwise.
     pub solver: fn() -> Solver,
+    /// For a quick return model: outputs and states recorded by default into
+    /// `quick_return_extra.csv`, one chart each (empty: no such file).
+    pub extra: &'static [&'static str],
+    /// For a quick return model: the run its summary compares with (the same with
+    /// some parameters set), or `None`.
+    pub compare: Option<&'static compare::Compare>,
 }
 
 impl fmt::Debug for Entry {
@@ -273,6 +292,38 @@ fn road_solver() -> Solver {
     })
 }
 
+/// The hybrid models' solver: DOPRI5 at rtol 1e-9, atol 1e-12 (their flights, slips
+/// and swings are not stiff; the events are located on its dense output).
+pub fn event_solver() -> Solver {
+    Solver::DormandPrince(DormandPrinceOptions {
+        rtol: 1e-9,
+        atol: 1e-12,
+        ..Default::default()
+    })
+}
+
+/// The ideal rectifier's solver: Radau IIA at rtol 1e-8 (while the diode conducts the
+/// source charges the capacitor with the time constant `r_on C` = 1 ms, beside the
+/// load's 0.1 s).
+fn rectifier_solver() -> Solver {
+    Solver::Radau5(Radau5Options {
+        rtol: 1e-8,
+        atol: 1e-10,
+        ..Default::default()
+    })
+}
+
+/// The friction variant's comparison: the same run without friction.
+static WITHOUT_FRICTION: compare::Compare = compare::Compare {
+    label: "without friction",
+    set: &[("mu", 0.0), ("mu_s", 0.0)],
+};
+
+/// What the friction variant records beside the spec's columns, and draws.
+const FRICTION_COLUMNS: &[&str] = &[
+    "Ff_3C", "N_3C", "u_3C", "mode_3C", "Ff_5C", "N_5C", "u_5C", "mode_5C", "P_fric",
+];
+
 /// Every model, in the order `models list` prints them.
 pub static MODELS: &[Entry] = &[
     Entry {
@@ -284,6 +335,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: flagship_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid",
@@ -294,6 +347,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: rigid_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quick_return_rigid_coupled",
@@ -304,6 +359,89 @@ pub static MODELS: &[Entry] = &[
         t_end: 5.0,
         interval: 1e-3,
         solver: coupled_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "quick_return_friction",
+        description: "the quick return mechanism with Coulomb friction and stiction in its two \
+                      slides (mu on the normal force) beside the viscous 20 N·s/m",
+        model: &Adapter::<QuickReturnFriction>(PhantomData),
+        results: ResultsKind::QuickReturn,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: flagship_solver,
+        extra: FRICTION_COLUMNS,
+        compare: Some(&WITHOUT_FRICTION),
+    },
+    Entry {
+        name: "bouncing_ball",
+        description: "a ball dropped on a floor: impacts with restitution, at rest after the \
+                      bounces fall below a rest speed",
+        model: &Adapter::<BouncingBall>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "rectifier",
+        description: "a half-wave rectifier: a sine source, an ideal diode (switched at zero \
+                      voltage) and an RC load",
+        model: &Adapter::<HalfWaveRectifier>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 0.1,
+        interval: 1e-5,
+        solver: rectifier_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "rectifier_exp",
+        description: "the half-wave rectifier with an exponential-law diode (smooth, stiff)",
+        model: &Adapter::<HalfWaveRectifierExp>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 0.1,
+        interval: 1e-5,
+        solver: stiff_default,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "stick_slip",
+        description: "a mass on a spring riding a moving belt: Coulomb friction with \
+                      stiction, stick and slip",
+        model: &Adapter::<BeltFriction>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 20.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "end_stop",
+        description: "a mass on a spring hitting an end stop with restitution",
+        model: &Adapter::<EndStop>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
+    },
+    Entry {
+        name: "clutch",
+        description: "two shafts joined by a friction clutch that locks when their speeds match",
+        model: &Adapter::<ClutchEngagement>(PhantomData),
+        results: ResultsKind::Trajectory,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: event_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "oscillator",
@@ -313,6 +451,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 10.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "rlc",
@@ -322,6 +462,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 0.01,
         interval: 1e-5,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_motor",
@@ -332,6 +474,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "quarter_car",
@@ -341,6 +485,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 3.0,
         interval: 1e-3,
         solver: road_solver,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "duffing",
@@ -350,6 +496,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 100.0,
         interval: 1e-2,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
     Entry {
         name: "dc_servo",
@@ -360,6 +508,8 @@ pub static MODELS: &[Entry] = &[
         t_end: 1.0,
         interval: 1e-3,
         solver: stiff_default,
+        extra: &[],
+        compare: None,
     },
 ];
 
@@ -434,7 +584,8 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown model `crank`; the models are: quick_return, quick_return_rigid, \
-             quick_return_rigid_coupled, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
+             quick_return_rigid_coupled, quick_return_friction, bouncing_ball, rectifier, \
+             rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
         );
     }
 }

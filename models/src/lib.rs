@@ -25,6 +25,7 @@ pub mod plot;
 pub mod provenance;
 pub mod quarter_car;
 pub mod quick_return;
+pub mod quick_return_hybrid;
 pub mod quick_return_rigid;
 #[doc(hidden)]
 pub mod reference;

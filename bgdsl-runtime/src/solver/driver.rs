@@ -23,6 +23,11 @@ use crate::record::{Recorder, Trajectory};
 /// not allocate (a [`Trajectory`] created with enough capacity) a run is free of heap
 /// allocation. A simulation can be run any number of times.
 ///
+/// Every method handles the model's events ([`crate::event`]): after each step the
+/// indicators are checked, a crossing is located and its action applied, and the
+/// method restarts from the state after it; [`Simulation::set_event_options`] bounds
+/// how many events a run handles and when it gives up on chattering ones.
+///
 /// ```
 /// use bgdsl_runtime::{Model, Scalar, Simulation, Solver, Trajectory};
 ///
@@ -297,7 +302,8 @@ impl<'m, M: Model> Simulation<'m, M> {
         &self.events.options
     }
 
-    /// The time the last run reached: its last sample time, or where it failed.
+    /// The time the last run reached: its last sample time, the time of an event that
+    /// stopped it, or where it failed.
     pub fn time(&self) -> f64 {
         self.t
     }
@@ -588,11 +594,18 @@ impl<'m, M: Model> Simulation<'m, M> {
         let t_star = if refit {
             let (kernel, x_a) = (explicit(&mut self.kernel), &self.x_start);
             let n_rhs = &mut stats.n_rhs;
+            // `f(t_a, x_a)`, evaluated once: an attempt leaves the first stage alone.
+            kernel.restart();
+            let mut prepared = false;
             let restep = |t: f64, out: &mut [f64]| {
-                kernel.restart();
+                if !prepared {
+                    kernel
+                        .prepare(model, t_a, x_a, n_rhs)
+                        .map_err(non_finite::<M>)?;
+                    prepared = true;
+                }
                 kernel
-                    .prepare(model, t_a, x_a, n_rhs)
-                    .and_then(|()| kernel.attempt(model, t_a, t, x_a, n_rhs))
+                    .attempt(model, t_a, t, x_a, n_rhs)
                     .map_err(non_finite::<M>)?;
                 out.copy_from_slice(kernel.x_new());
                 Ok(())

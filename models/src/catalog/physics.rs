@@ -9,6 +9,10 @@ use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
 use crate::quick_return_rigid::{
     try_quick_return_cycle, DrivenMechanism, Mechanism, QuickReturnRigid, QuickReturnRigidCoupled,
 };
+use crate::hybrid::{
+    BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
+};
+use crate::quick_return_hybrid::QuickReturnFriction;
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 /// A model of the catalogue: made from its parameter struct, with physical checks of
@@ -287,5 +291,128 @@ impl Catalogued for Duffing {
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.non_negative("c", p.c);
+    }
+}
+
+impl Catalogued for BouncingBall {
+    fn from_params(params: Self::Params) -> Self {
+        BouncingBall::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("m", p.m);
+        checks.positive("g", p.g);
+        checks.non_negative("h0", p.h0);
+        unit_interval(checks, "restitution", p.restitution);
+        checks.non_negative("v_rest", p.v_rest);
+    }
+}
+
+impl Catalogued for HalfWaveRectifier {
+    fn from_params(params: Self::Params) -> Self {
+        HalfWaveRectifier::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("amplitude", p.amplitude);
+        checks.positive("frequency", p.frequency);
+        checks.positive("r_on", p.r_on);
+        checks.non_negative("g_off", p.g_off);
+        checks.positive("r_load", p.r_load);
+        checks.positive("capacitance", p.capacitance);
+    }
+}
+
+impl Catalogued for HalfWaveRectifierExp {
+    fn from_params(params: Self::Params) -> Self {
+        HalfWaveRectifierExp::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("amplitude", p.amplitude);
+        checks.positive("frequency", p.frequency);
+        checks.positive("r_source", p.r_source);
+        checks.positive("i_s", p.i_s);
+        checks.positive("n_vt", p.n_vt);
+        checks.positive("r_load", p.r_load);
+        checks.positive("capacitance", p.capacitance);
+    }
+}
+
+impl Catalogued for EndStop {
+    fn from_params(params: Self::Params) -> Self {
+        EndStop::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("m", p.m);
+        checks.positive("k", p.k);
+        checks.non_negative("amplitude", p.amplitude);
+        unit_interval(checks, "restitution", p.restitution);
+    }
+}
+
+impl Catalogued for ClutchEngagement {
+    fn from_params(params: Self::Params) -> Self {
+        ClutchEngagement::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("j1", p.j1);
+        checks.positive("j2", p.j2);
+        checks.non_negative("tk", p.tk);
+        static_limit(checks, ("ts", p.ts), ("tk", p.tk));
+    }
+}
+
+impl Catalogued for BeltFriction {
+    fn from_params(params: Self::Params) -> Self {
+        BeltFriction::new(params)
+    }
+
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.positive("m", p.m);
+        checks.positive("k", p.k);
+        checks.positive("v_belt", p.v_belt);
+        checks.non_negative("g", p.g);
+        checks.non_negative("mu_k", p.mu_k);
+        static_limit(checks, ("mu_s", p.mu_s), ("mu_k", p.mu_k));
+    }
+}
+
+impl Catalogued for QuickReturnFriction {
+    fn from_params(params: Self::Params) -> Self {
+        QuickReturnFriction::new(params)
+    }
+
+    fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
+        Some(DrivenMechanism::of(params))
+    }
+
+    /// The flagship's checks, and the friction's: coefficients not negative, the
+    /// static one at least the kinetic one, a stuck slide's stiffness positive.
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        QuickReturn::check_params(&p.flagship(), checks);
+        checks.non_negative("mu", p.mu);
+        static_limit(checks, ("mu_s", p.mu_s), ("mu", p.mu));
+        checks.positive("K_stick", p.K_stick);
+    }
+}
+
+/// A coefficient of restitution: in [0, 1].
+fn unit_interval(checks: &mut Checks, name: &str, value: f64) {
+    if !(0.0..=1.0).contains(&value) {
+        checks.problem(&[name], format!("{name} must be in [0, 1], found {value}"));
+    }
+}
+
+/// A static friction limit: at least the kinetic level (stiction never below sliding
+/// friction; equal is plain Coulomb friction with a stick mode).
+fn static_limit(checks: &mut Checks, (s, fs): (&str, f64), (k, fc): (&str, f64)) {
+    if fs < fc {
+        checks.problem(
+            &[s, k],
+            format!("{s} must be at least {k} (static friction holds at least what sliding friction does), found {fs} < {fc}"),
+        );
     }
 }

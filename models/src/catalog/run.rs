@@ -13,7 +13,8 @@ use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, 
 use serde::de::DeserializeOwned;
 use serde_yaml::{Mapping, Value};
 
-use super::columns::{all_columns, write_units, Table};
+use super::columns::{all_columns, resolve_columns, write_units, Table};
+use super::events::{self, EventCollector};
 use super::figures;
 use super::folder::RunFolder;
 use super::params::format_significant;
@@ -247,6 +248,12 @@ impl Recorder for Monitor<'_> {
         self.observer.sample(t);
     }
 
+    fn event(&mut self, record: &bgdsl_runtime::EventRecord<'_>) {
+        for r in &mut self.recorders {
+            r.event(record);
+        }
+    }
+
     fn stop_requested(&self) -> bool {
         self.observer.stop_requested()
     }
@@ -356,7 +363,7 @@ where
     };
     let selection = match (&plan.record, quick) {
         (Some(chosen), _) => chosen.clone(),
-        (None, true) => Vec::new(),
+        (None, true) => entry_extras(entry),
         (None, false) => all_columns(entry.model),
     };
     let mut table = (!selection.is_empty()).then(|| Table::new(&selection, n));
@@ -367,9 +374,24 @@ where
     if let Some(t) = table.as_mut() {
         recorders.push(t);
     }
+    // Room for the events up front: a few per sample interval is plenty for the
+    // catalogue's models (beyond it the log grows).
+    let mut collector = (!M::EVENTS.is_empty()).then(|| EventCollector::new::<M>(4 * n));
+    if let Some(c) = collector.as_mut() {
+        recorders.push(c);
+    }
     let folder = RunFolder::begin(&plan.out_dir)?;
     let run = integrate(&model, plan, recorders, observer)?;
     let mut failure = run.error.as_ref().map(|e| failure_text(&plan.solver, e));
+    let event_energies = collector
+        .as_ref()
+        .map(|c| events::energies(&model, &c.log))
+        .unwrap_or_default();
+    if let (Some(c), Some(results)) = (&collector, results.as_mut()) {
+        for (e, change) in c.log.iter().zip(&event_energies) {
+            results.push_event_energy(e.t, change.unwrap_or(0.0));
+        }
+    }
 
     let dir = folder.path();
     // The results files' names, written into the staging folder, and their units
@@ -400,6 +422,15 @@ where
         unit_files.push(write_units(entry.model, &path, &table.names())?);
         results_files.push(name);
     }
+    if let Some(c) = &collector {
+        events::write_csv(
+            &dir.join(events::FILE_NAME),
+            &c.log,
+            &event_energies,
+            M::STATE_NAMES,
+        )?;
+        results_files.push(events::FILE_NAME.to_owned());
+    }
     let write_time = writing.elapsed();
 
     let plotting = Instant::now();
@@ -408,9 +439,16 @@ where
     } else {
         match (&plan.plots, &results, &table) {
             (Plots::None, _, _) => Ok(Vec::new()),
-            (plots, Some(results), _) => params_from::<M::Params>(&plan.params)
+            (plots, Some(results), table) => params_from::<M::Params>(&plan.params)
                 .and_then(|params| mechanism::<M>(&params))
-                .and_then(|mechanism| figures::quick_return(results, &mechanism, dir, plots)),
+                .and_then(|mechanism| figures::quick_return(results, &mechanism, dir, plots))
+                .and_then(|mut drawn| {
+                    // The extra columns an entry records by default are drawn too.
+                    if let (Some(table), true) = (table, plan.record.is_none()) {
+                        drawn.extend(figures::trajectory(entry, table, dir, &Plots::All)?);
+                    }
+                    Ok(drawn)
+                }),
             (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
             (_, None, None) => Ok(Vec::new()),
         }
@@ -457,11 +495,22 @@ where
             &failure,
         ),
     };
+    if let Some(c) = &collector {
+        summary.push_str(&events::summary_lines(
+            &M::EVENTS.iter().map(|e| e.name).collect::<Vec<_>>(),
+            &c.log,
+            &event_energies,
+        ));
+    }
+    if let Some(extra) = entry.compare {
+        summary.push_str(&super::compare::summary::<M>(entry, extra, plan, results.as_ref()));
+    }
     if table.is_some() && quick {
         summary.push_str(&format!(
             "extra columns  {}\n",
             results_paths
-                .last()
+                .iter()
+                .rfind(|p| p.to_string_lossy().ends_with("_extra.csv"))
                 .map(|p| p.display().to_string())
                 .unwrap_or_default()
         ));
@@ -492,6 +541,17 @@ where
         integration: run.wall,
         plotting,
     })
+}
+
+/// The columns a quick return entry records by default into `quick_return_extra.csv`
+/// (its [`Entry::extra`] outputs and states), and draws one chart each of.
+fn entry_extras(entry: &Entry) -> Vec<(String, Column)> {
+    entry
+        .extra
+        .iter()
+        .filter_map(|name| resolve_columns(entry.model, name))
+        .flatten()
+        .collect()
 }
 
 /// The summary of a run of a model other than the quick return: the run, then each

@@ -148,6 +148,8 @@ pub struct Results {
     /// For each column after `t`, its index in the model's outputs.
     source: [usize; N_COLUMNS - 1],
     columns: Vec<Vec<f64>>,
+    /// The run's events as (time, change of stored energy), for the energy balance.
+    event_energy: Vec<(f64, f64)>,
 }
 
 impl Results {
@@ -180,6 +182,7 @@ impl Results {
             columns: (0..N_COLUMNS)
                 .map(|_| Vec::with_capacity(capacity))
                 .collect(),
+            event_energy: Vec::new(),
         })
     }
 
@@ -206,6 +209,19 @@ impl Results {
     /// Forgets the samples (keeping the memory): the next sample starts a new run.
     pub fn clear(&mut self) {
         self.columns.iter_mut().for_each(Vec::clear);
+        self.event_energy.clear();
+    }
+
+    /// Notes an event at `t` that changed the stored energy by `change` (J), for the
+    /// energy balance (Fig. 21): `stored(t) − stored(0) = ∫ P_in − ∫ P_diss + Σ change`.
+    pub fn push_event_energy(&mut self, t: f64, change: f64) {
+        self.event_energy.push((t, change));
+    }
+
+    /// The events' (time, change of stored energy), in time order; empty for a model
+    /// without events.
+    pub fn event_energies(&self) -> &[(f64, f64)] {
+        &self.event_energy
     }
 
     /// The sample times.

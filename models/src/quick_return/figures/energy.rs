@@ -40,6 +40,8 @@ impl Data<'_> {
 /// The energy balance of a run: running integrals of the drive's and the dampers'
 /// power, the change of the stored energy, and the residual.
 struct EnergyBalance {
+    /// Whether the run had events (their energy is then part of `net`).
+    events: bool,
     w_in: Vec<f64>,
     w_diss: Vec<f64>,
     stored: Vec<f64>,
@@ -55,9 +57,25 @@ impl EnergyBalance {
         let w_diss = cumulative_trapezoid(t, data.column("P_diss"));
         let e0 = e.first().copied().unwrap_or(0.0);
         let stored: Vec<f64> = e.iter().map(|e| e - e0).collect();
-        let net: Vec<f64> = w_in.iter().zip(&w_diss).map(|(a, b)| a - b).collect();
+        // Events (an impact, a stuck slide's release) change the stored energy at an
+        // instant: their sum up to each sample joins the supplied energy. A sample at
+        // an event's time holds the state after it.
+        let events = data.results.event_energies();
+        let (mut next, mut jumps) = (0, 0.0);
+        let net: Vec<f64> = t
+            .iter()
+            .zip(w_in.iter().zip(&w_diss))
+            .map(|(&ts, (a, b))| {
+                while let Some(&(_, change)) = events.get(next).filter(|(te, _)| *te <= ts) {
+                    jumps += change;
+                    next += 1;
+                }
+                a - b + jumps
+            })
+            .collect();
         let residual = stored.iter().zip(&net).map(|(s, n)| s - n).collect();
         EnergyBalance {
+            events: !events.is_empty(),
             w_in,
             w_diss,
             stored,
@@ -95,7 +113,14 @@ impl EnergyBalance {
                 "Change of stored energy and net energy supplied",
                 vec![
                     Series::new("E_stored(t) − E_stored(0)", pairs(t, &self.stored)),
-                    Series::new("∫ (P_in − P_diss) dt", pairs(t, &self.net)),
+                    Series::new(
+                        if self.events {
+                            "∫ (P_in − P_diss) dt + Σ ΔE_events"
+                        } else {
+                            "∫ (P_in − P_diss) dt"
+                        },
+                        pairs(t, &self.net),
+                    ),
                 ],
             ),
             chart(
@@ -128,6 +153,18 @@ impl EnergyBalance {
             significant(last(&self.stored)),
             significant(last(&self.residual)),
         );
+        let intro = if self.events {
+            let total: f64 = data.results.event_energies().iter().map(|(_, e)| e).sum();
+            format!(
+                "{intro} The run's {} events changed the stored energy at their instants by \
+                 {} J in all (an impact's loss, a stuck slide's released spring: \
+                 bgdsl_runtime::event_energy); the net energy supplied includes them.",
+                data.results.event_energies().len(),
+                significant(total)
+            )
+        } else {
+            intro
+        };
         let Some(fit) = fit else {
             return intro;
         };
