@@ -5,7 +5,8 @@
 //! applies the actions in `fmi2NewDiscreteStates`) and as Co-Simulation (the FMU's own
 //! solver locates and handles the events inside each `fmi2DoStep`).
 //!
-//! `tests/fmpy_check.py` validates the FMUs and runs them; FMPy records every grid
+//! `tests/fmpy_check.py` validates the FMUs of every hybrid model of the library and
+//! runs the ball's and the rectifier's; FMPy records every grid
 //! point and, in Model Exchange, the state on both sides of every event it handled
 //! (`record_events`, its default). The results are compared here with the project's
 //! own runs of the same models:
@@ -49,7 +50,17 @@ use models::hybrid::{BouncingBall, HalfWaveRectifier};
 
 const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fmpy_check.py");
 const BALL: &str = "bouncing_ball";
-const RECTIFIER: &str = "half_wave_rectifier";
+const RECTIFIER: &str = "rectifier";
+/// The library's models with events and modes.
+const HYBRID: &[&str] = &[
+    BALL,
+    RECTIFIER,
+    "rectifier_exp",
+    "stick_slip",
+    "end_stop",
+    "clutch",
+    "quick_return_friction",
+];
 
 /// One simulation FMPy runs.
 #[derive(Clone, Copy, Debug)]
@@ -406,8 +417,10 @@ fn fmpy_runs_the_hybrid_fmus_and_finds_their_events_where_the_project_does() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("fmpy-events-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let fmus: Vec<(&str, PathBuf)> = [BALL, RECTIFIER]
-        .into_iter()
+    // Every hybrid model's FMU is validated; the ball and the rectifier are run.
+    let fmus: Vec<(&str, PathBuf)> = HYBRID
+        .iter()
+        .copied()
         .map(|model| (model, bgdsl_fmi::write_fmu(model, &library, &dir).unwrap()))
         .collect();
     let config_path = dir.join("config.json");
