@@ -352,7 +352,7 @@ impl<M: Exportable> FmuModel for Adapter<M> {
                     return Ok(None);
                 }
                 Ok(Some(Stopped {
-                    event: stop.unwrap_or("(beyond the event log's room)"),
+                    event: stop.unwrap_or("(past the events the step's log keeps)"),
                     t: stepper.time(),
                 }))
             }

@@ -116,8 +116,8 @@ impl<const STOP: i64> WithInputs for Ball<STOP> {
     fn set_input_values(&mut self, _: &[f64]) {}
 }
 
-/// Bounces on (a hundred bounces are more than any test reaches).
-type Bouncing = Ball<100>;
+/// Bounces on, never stopping.
+type Bouncing = Ball<{ i64::MAX }>;
 /// Stops at the third bounce.
 type Stopping = Ball<3>;
 
@@ -775,4 +775,32 @@ fn a_stop_at_the_end_of_a_co_simulation_step_is_reported_too() {
     }
     assert_eq!(terminated, TRUE);
     assert!((last - 1.0).abs() <= 1e-12, "stopped at {last}");
+}
+
+/// Co-Simulation: the ball without a rest mode is Zeno (its impacts accumulate at
+/// `t1 (1 + 2e / (1 - e))`, 4.06 s); the runtime's chattering rule ends the step there,
+/// which the FMU reports as a failed step (fmi2Discard, with the runtime's sentence)
+/// and not as a hang, and it stays where the last good step ended.
+#[test]
+fn a_zeno_ball_fails_its_step_with_the_chattering_message() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let c = running::<Bouncing>(1, &cb);
+    let (mut last, mut terminated) = (0.0, TRUE);
+    // SAFETY: a live component and arrays of the lengths passed.
+    unsafe {
+        assert_eq!(fmi2DoStep(c, 0.0, 4.0, TRUE), Status::Ok);
+        assert_eq!(fmi2DoStep(c, 4.0, 1.0, TRUE), Status::Discard);
+        let message = log.last();
+        assert!(
+            message.contains("the step from t = 4 to t = 5 failed")
+                && message.contains("chattered"),
+            "{message}"
+        );
+        assert_eq!(fmi2GetRealStatus(c, 2, &mut last), Status::Ok);
+        assert_eq!(fmi2GetBooleanStatus(c, 3, &mut terminated), Status::Ok);
+        fmi2FreeInstance(c);
+    }
+    assert_eq!(last, 4.0);
+    assert_eq!(terminated, FALSE, "a failure is not a stop");
 }
