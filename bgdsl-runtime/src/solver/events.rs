@@ -276,19 +276,15 @@ impl Events {
             if width <= tol {
                 break;
             }
-            let mut t = if slow >= 2 {
+            let secant = hi - g_hi * width / (g_hi - g_lo);
+            let t = if slow >= 2 || secant.is_nan() {
                 slow = 0;
                 lo + 0.5 * width
             } else {
-                hi - g_hi * width / (g_hi - g_lo)
+                // The bracket is wider than the tolerance, so this range is not empty.
+                let margin = 0.5 * tol;
+                secant.clamp(lo + margin, hi - margin)
             };
-            let margin = 0.5 * tol;
-            if !(t > lo + margin) {
-                t = lo + margin;
-            }
-            if !(t < hi - margin) {
-                t = hi - margin;
-            }
             let g = self.g_at(model, i, t, state_at, n_event_fn)?;
             if crossed(g) {
                 (hi, g_hi) = (t, g);

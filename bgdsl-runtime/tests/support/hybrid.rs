@@ -94,7 +94,7 @@ impl Model for Ball {
         if self.stop {
             return EventAction::Stop;
         }
-        x[1] = -self.e * x[1];
+        x[1] *= -self.e;
         EventAction::Continue
     }
 }
@@ -270,5 +270,79 @@ impl<const D: u8> Model for Sine<D> {
     fn apply_event(&self, _index: usize, _t: f64, x: &mut [f64]) -> EventAction {
         x[2] += 1.0;
         EventAction::Continue
+    }
+}
+
+/// The [`Ball`] with its floor event firing in both directions: a ball leaving the
+/// floor after a bounce must not fire it again on the way up.
+#[derive(Clone, Debug, Default)]
+pub struct EitherWayBall(pub Ball);
+
+impl Model for EitherWayBall {
+    type Params = ();
+    const NAME: &'static str = "either_way_ball";
+    const STATE_NAMES: &'static [&'static str] = Ball::STATE_NAMES;
+    const OUTPUT_NAMES: &'static [&'static str] = Ball::OUTPUT_NAMES;
+    const EVENTS: &'static [EventInfo] = &[EventInfo {
+        name: "floor",
+        direction: Direction::Both,
+        doc: "The ball reaches the floor (or leaves it).",
+    }];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        self.0.initial_state(x0);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        self.0.derivatives(t, x, dx);
+    }
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]) {
+        self.0.outputs(t, x, y);
+    }
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        self.0.event_indicators(t, x, g);
+    }
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction {
+        self.0.apply_event(index, t, x)
+    }
+}
+
+/// The [`Ball`] with a hand-written Jacobian that notes the time of every evaluation,
+/// to see where a stiff method evaluates its Jacobians.
+#[derive(Debug, Default)]
+pub struct JacobianSpy {
+    pub ball: Ball,
+    pub times: std::cell::RefCell<Vec<f64>>,
+}
+
+impl Model for JacobianSpy {
+    type Params = ();
+    const NAME: &'static str = "jacobian_spy";
+    const STATE_NAMES: &'static [&'static str] = Ball::STATE_NAMES;
+    const OUTPUT_NAMES: &'static [&'static str] = Ball::OUTPUT_NAMES;
+    const EVENTS: &'static [EventInfo] = Ball::EVENTS;
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        self.ball.initial_state(x0);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        self.ball.derivatives(t, x, dx);
+    }
+    fn outputs<T: Scalar>(&self, t: f64, x: &[T], y: &mut [T]) {
+        self.ball.outputs(t, x, y);
+    }
+    fn jacobian(&self, t: f64, _x: &[f64], jac: &mut [f64]) -> bool {
+        self.times.borrow_mut().push(t);
+        jac.copy_from_slice(&[0.0, 1.0, 0.0, 0.0]);
+        true
+    }
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        self.ball.event_indicators(t, x, g);
+    }
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction {
+        self.ball.apply_event(index, t, x)
     }
 }
