@@ -805,7 +805,13 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
         .map(|(state, offset)| {
             if let Some(m) = state.mode {
                 let mode = &graph.modes[m];
-                let value = crate::event_code::stored(mode.kind, f64_expr(&mode.init));
+                let span = syn::spanned::Spanned::span(&mode.init);
+                // An `i64` mode's integer literal stays one.
+                let init = match mode.kind {
+                    crate::events::ModeKind::Integer => mode.init.to_token_stream(),
+                    _ => f64_expr(&mode.init),
+                };
+                let value = crate::event_code::stored(mode.kind, init, span);
                 return write_value(state.shape, value, &x0, offset, &f64_type);
             }
             let declared = match (state.element, state.kinematic) {

@@ -7,7 +7,7 @@
 //! the event is computed (simultaneous assignment).
 
 use proc_macro2::{Span, TokenStream};
-use quote::{format_ident, quote};
+use quote::{format_ident, quote, quote_spanned};
 use syn::Ident;
 
 use crate::equations::Equations;
@@ -38,12 +38,23 @@ pub fn bind_modes(graph: &Graph, equations: &Equations) -> TokenStream {
     quote!(#(#binds)*)
 }
 
-/// A mode's initial value as the `f64` stored in the state vector.
-pub fn stored(kind: ModeKind, value: TokenStream) -> TokenStream {
+/// A mode's value as the `f64` stored in the state vector, typed at the user's
+/// expression (`span`) so that a value of the wrong type is an error there.
+pub fn stored(kind: ModeKind, value: TokenStream, span: Span) -> TokenStream {
+    let typed = |ty: TokenStream| quote_spanned!(span=> let __mode_value: #ty = #value;);
     match kind {
-        ModeKind::Bool => quote!(if #value { 1.0 } else { 0.0 }),
-        ModeKind::Integer => quote!(((#value) as ::core::primitive::i64) as ::core::primitive::f64),
-        ModeKind::Real => value,
+        ModeKind::Bool => {
+            let typed = typed(quote!(::core::primitive::bool));
+            quote!({ #typed if __mode_value { 1.0 } else { 0.0 } })
+        }
+        ModeKind::Integer => {
+            let typed = typed(quote!(::core::primitive::i64));
+            quote!({ #typed __mode_value as ::core::primitive::f64 })
+        }
+        ModeKind::Real => {
+            let typed = typed(quote!(::core::primitive::f64));
+            quote!({ #typed __mode_value })
+        }
     }
 }
 
@@ -148,7 +159,7 @@ fn actions(actions: &[ActionCode], writes: &mut Vec<(Ident, usize)>) -> TokenStr
             let ident = format_ident!("__new_{}", writes.len());
             writes.push((ident.clone(), *state));
             let value = match mode {
-                Some(kind) => stored(*kind, quote!((#value))),
+                Some(kind) => stored(*kind, quote!(#value), syn::spanned::Spanned::span(value)),
                 None => quote!(#value),
             };
             quote!(#ident = ::core::option::Option::Some(#value);)

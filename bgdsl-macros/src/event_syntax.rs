@@ -148,7 +148,7 @@ pub fn parse_when(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<When
     }
     let body;
     let brace = braced!(body in input);
-    let actions = parse_actions(&body)?;
+    let actions = crate::syntax::parse_group(&body, parse_actions)?;
     Ok(WhenDecl {
         attrs,
         span: keyword.span,
@@ -212,7 +212,7 @@ fn parse_if(input: ParseStream) -> syn::Result<ActionSyntax> {
     let cond = Expr::parse_without_eager_brace(input)?;
     let body;
     braced!(body in input);
-    let then = parse_actions(&body)?;
+    let then = crate::syntax::parse_group(&body, parse_actions)?;
     let otherwise = if input.peek(Token![else]) {
         input.parse::<Token![else]>()?;
         if input.peek(Token![if]) {
@@ -220,7 +220,7 @@ fn parse_if(input: ParseStream) -> syn::Result<ActionSyntax> {
         } else {
             let body;
             braced!(body in input);
-            parse_actions(&body)?
+            crate::syntax::parse_group(&body, parse_actions)?
         }
     } else {
         Vec::new()

@@ -97,6 +97,7 @@ pub enum Target {
 /// them), reporting what an action cannot assign and conditions that are not
 /// comparisons.
 pub fn resolve(graph: &mut Graph, whens: Vec<WhenDecl>, errors: &mut Errors) {
+    let mut unknown_assignment = false;
     for (k, when) in whens.into_iter().enumerate() {
         let name = when
             .label
@@ -113,7 +114,7 @@ pub fn resolve(graph: &mut Graph, whens: Vec<WhenDecl>, errors: &mut Errors) {
                 ),
             );
         }
-        let actions = actions(graph, when.actions, errors);
+        let actions = actions(graph, when.actions, errors, &mut unknown_assignment);
         let Some((direction, lhs, rhs)) = condition(when.condition, errors) else {
             continue;
         };
@@ -126,7 +127,10 @@ pub fn resolve(graph: &mut Graph, whens: Vec<WhenDecl>, errors: &mut Errors) {
             actions,
         });
     }
-    check_modes_switched(graph, errors);
+    // An assignment that named no mode was reported; "never switched" would follow it.
+    if !unknown_assignment {
+        check_modes_switched(graph, errors);
+    }
 }
 
 /// A condition's direction and sides, or an error at it.
@@ -185,7 +189,13 @@ fn not_a_comparison<T>(expr: &Expr, errors: &mut Errors) -> Option<T> {
     None
 }
 
-fn actions(graph: &Graph, written: Vec<ActionSyntax>, errors: &mut Errors) -> Vec<Action> {
+/// The actions resolved; `unknown` is set when an assignment names no mode.
+fn actions(
+    graph: &Graph,
+    written: Vec<ActionSyntax>,
+    errors: &mut Errors,
+    unknown: &mut bool,
+) -> Vec<Action> {
     written
         .into_iter()
         .filter_map(|action| match action {
@@ -196,7 +206,9 @@ fn actions(graph: &Graph, written: Vec<ActionSyntax>, errors: &mut Errors) -> Ve
             } => reinit_target(graph, &target, member.as_ref(), errors)
                 .map(|target| Action::Reinit { target, value }),
             ActionSyntax::Assign { target, value } => {
-                switched_mode(graph, &target, errors).map(|mode| Action::Switch { mode, value })
+                let mode = switched_mode(graph, &target, errors);
+                *unknown |= mode.is_none();
+                mode.map(|mode| Action::Switch { mode, value })
             }
             ActionSyntax::Stop => Some(Action::Stop),
             ActionSyntax::If {
@@ -205,8 +217,8 @@ fn actions(graph: &Graph, written: Vec<ActionSyntax>, errors: &mut Errors) -> Ve
                 otherwise,
             } => Some(Action::If {
                 cond,
-                then: actions(graph, then, errors),
-                otherwise: actions(graph, otherwise, errors),
+                then: actions(graph, then, errors, unknown),
+                otherwise: actions(graph, otherwise, errors, unknown),
             }),
         })
         .collect()

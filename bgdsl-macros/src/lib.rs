@@ -98,6 +98,17 @@ mod value_shape;
 ///            | "der" name "=" expr ";"                       its time derivative
 ///            | doc* "output" name (":" type)? "=" expr unit? ";"  named output
 ///            | Submodel instance "(" (name "=" expr),* ")" ";"  submodel instance
+///            | doc* "mode" name ":" ("bool" | "i64" | "f64") "=" expr ";"
+///                                                          discrete mode, initial value
+///            | doc* "when" (label ":")? condition "{" action* "}"  event (no `;` needed)
+/// condition := expr ("<" | "<=") expr                       falling: lhs − rhs falls through 0
+///            | expr (">" | ">=") expr                       rising: lhs − rhs rises through 0
+///            | "crossing" "(" expr ")"                      either way
+/// action    := "reinit" state "=" expr ";"                 a state: `ball.p`, `spring.q`, a
+///                                                          kinematic `state`
+///            | mode "=" expr ";"                           switch a mode
+///            | "stop" ";"                                  end the run at the event
+///            | "if" expr "{" action* "}" ("else" ("{" action* "}" | if_action))?
 /// allow     := "#[allow(" lint ("," lint)* ")]"            opt-ins (see Dependent storage)
 /// lint      := "derivative_causality" | "algebraic_loops"  (on the model, Rust's lints too)
 /// KIND      := "Se" | "Sf" | "MSe" | "MSf" | "C" | "I" | "R" | "TF" | "GY" | "MTF" | "MGY" | "0" | "1" | "Split"
@@ -204,6 +215,63 @@ mod value_shape;
 /// - `Coupling(a, b, k, c)`: a spring-damper between ports `a` and `b`; its force acts
 ///   on `b`, its opposite on `a`; `spring.q` is `∫ (a − b)`.
 /// - `FrameCoupling(a, b, frame, k, c)`: the same with the laws in a moving frame.
+///
+/// ## Events and modes
+///
+/// A **mode** is a discrete state: `mode stuck: bool = false;` (or `i64`, `f64`), with
+/// its initial value in the parameters. It is stored in the state vector after every
+/// continuous state, in declaration order (an instance's modes where the instance is
+/// written), with derivative exactly 0, so every integrator holds it constant between
+/// events; `STATE_NAMES`, the named state record, `initial_state`, trajectories and
+/// CSVs carry it (a `bool` as 0.0 or 1.0), and `Model::MODES` describes it (name, type,
+/// doc comment). Laws, outputs, `der`, conditions and actions read a mode by its name as
+/// a plain value: a `bool`, an `i64` (integer literals next to it stay integers:
+/// `gear == 2`, `gear + 1`), or, for an `f64` mode, a constant of the scalar type. It
+/// never carries a derivative, so `if stuck { .. } else { .. }` switches between two
+/// smooth laws, each with its exact Jacobian (`JACOBIAN_SPARSITY` has an empty row for
+/// a mode and no column for it).
+///
+/// An **event** is `when condition { actions }`. Its indicator is g = lhs − rhs (or
+/// the argument of `crossing`), computed in `f64` from every signal of the model at (t,
+/// x), and it fires when g crosses zero in its direction: `lhs < rhs` (or `<=`) when g
+/// falls through zero (from above to at or below), `lhs > rhs` (or `>=`) when g rises
+/// through zero, `crossing(x)` either way; `<` and `<=` make the same event. A condition
+/// that already holds at the start of a run fires only after it has stopped holding and
+/// crosses again. `Model::EVENTS` lists the events (name, direction, doc comment) and
+/// `Model::event_indicators` computes g; the runtime locates the crossing and calls
+/// `Model::apply_event` (see `bgdsl_runtime::event`).
+///
+/// The actions: `reinit ball.p = ..;` sets a state (a C's `q`, an I's `p`, a kinematic
+/// `state`); `stuck = ..;` switches a mode; `stop;` ends the run at the event;
+/// `if .. { .. } else { .. }` chooses. Every value and every `if` condition reads the
+/// values just before the event, and the assignments are made together after all are
+/// computed (Modelica's semantics): `reinit a.p = b.p; reinit b.p = a.p;` swaps. Two
+/// assignments to one state: the later one written wins. Events that fire at the same
+/// time (within the runtime's time tolerance) are handled in declaration order, each
+/// action applied to the state the previous one left.
+///
+/// **A discontinuity goes through a mode**, never through `if v > 0.0 { .. }` on a
+/// continuous signal: switch a mode at the event where v crosses zero and let the law
+/// read the mode, so the right-hand side is smooth inside every step and the solver's
+/// error control and Jacobians stay valid. Events the host causes by changing inputs
+/// between steps are the host's to handle.
+///
+/// An event is named by its label, `when impact: x < 0.0 { .. }`, or else `when_k`,
+/// the k-th `when` of the model or submodel it is written in (labelled ones counted).
+/// Modes and events may be declared in submodels; their names are prefixed like states
+/// (`wall.hits`, `wall.when_1`). Labels and modes share the namespace of parameters and
+/// elements. In a model with dependent storage or algebraic loops, the event functions
+/// solve the unknowns first, as `outputs` does (a failed solve gives NaN indicators and
+/// leaves the state unchanged).
+///
+/// Compile errors, each at the text concerned: `reinit` of something that is no state
+/// (a parameter, a signal such as `spring.e`, an element without state, dependent
+/// storage, a mode: "assign a mode with `x = ..;`"); a condition that is no comparison
+/// or `crossing(..)` (`==`, `&&` and a bare value included); a condition on a vector
+/// or a matrix; a mode that is read but never switched (a parameter in disguise); an
+/// assignment to an unknown mode (with the nearest name); a `when` with no action;
+/// two modes of one name; a mode of another type than `bool`, `i64`, `f64`. Unknown
+/// names in conditions and actions are reported like those in laws.
 ///
 /// ## Units
 ///

@@ -515,9 +515,11 @@ fn parse_body(
             Ok(stmt) => stmts.push(stmt),
             Err(error) => {
                 recovered.errors.push(error);
+                // Before `declared_name`, which reads on from `start`.
+                let when = is_when(&start);
                 poisoned.extend(declared_name(&start));
-                if is_when(&start) {
-                    skip_past_braces(body);
+                if when {
+                    skip_past_braces(body, start_cursor);
                 } else {
                     skip_past_semicolon(body);
                 }
@@ -707,7 +709,7 @@ fn declared_name(input: ParseStream) -> Option<Ident> {
 /// Runs `parse` on the contents of a delimited group and, if it fails, consumes what
 /// is left of the group: syn otherwise turns the leftover tokens into an "unexpected
 /// token" error that replaces every other error of the invocation.
-fn parse_group<T>(
+pub fn parse_group<T>(
     group: ParseStream,
     parse: impl FnOnce(ParseStream) -> syn::Result<T>,
 ) -> syn::Result<T> {
@@ -751,15 +753,35 @@ fn is_when(input: ParseStream) -> bool {
         && !(fork.peek2(Token![-]) && fork.peek3(syn::token::Bracket))
 }
 
-/// Error recovery for a `when`: drop tokens up to and including its braces.
-fn skip_past_braces(input: ParseStream) {
-    let _ = input.step(|cursor| {
-        let mut rest = *cursor;
-        while let Some((tt, next)) = rest.token_tree() {
-            rest = next;
-            if matches!(&tt, TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace)
-            {
+/// Error recovery for a `when` that started at `start`: drop tokens up to and
+/// including its braces (the first brace group after `start`), unless the parser has
+/// read past them already.
+fn skip_past_braces(input: ParseStream, start: syn::buffer::Cursor) {
+    let is_brace = |tt: &TokenTree| matches!(tt, TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace);
+    let mut length = 0;
+    let mut cursor = start;
+    while let Some((tt, next)) = cursor.token_tree() {
+        length += 1;
+        cursor = next;
+        if is_brace(&tt) {
+            break;
+        }
+    }
+    let _ = input.step(|now| {
+        let mut read = 0;
+        let mut cursor = start;
+        while cursor != *now {
+            let Some((_, next)) = cursor.token_tree() else {
                 break;
+            };
+            read += 1;
+            cursor = next;
+        }
+        let mut rest = *now;
+        for _ in read..length {
+            match rest.token_tree() {
+                Some((_, next)) => rest = next,
+                None => break,
             }
         }
         Ok(((), rest))

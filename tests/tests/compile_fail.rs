@@ -30,6 +30,9 @@ fn ui() {
     // The opt-ins for dependent storage and algebraic loops: the help lines without
     // them, allowances nothing uses, what dependent storage cannot have.
     cases.compile_fail("ui/implicit/*.rs");
+    // Events and modes: what a `reinit` or a mode assignment cannot change, conditions
+    // that are not comparisons, modes never switched, malformed `when` blocks.
+    cases.compile_fail("ui/events/*.rs");
     // Unusual but valid models: no outputs, no states.
     cases.pass("ui/pass/*.rs");
 }

@@ -122,15 +122,45 @@ bond_graph! {
         }
     }
 
-    /// A mass pushed from rest by a constant force; the run stops when it has moved 1 m.
+    /// A mass pushed from rest by a constant force; the run stops when it has moved 1 m
+    /// (a threshold written as a parameter expression, which the model caches).
     pub model Stopper {
         param force = 2.0;
+        param half = 0.5;
         Se push = force;
         I mass = 1.0;
         push -> mass;
         state x: f64 = 0.0;
         der x = mass.f;
-        when x > 1.0 { stop; }
+        when x > (2.0 * half).sqrt() { stop; }
+    }
+}
+
+bond_graph! {
+    /// A capacitor charged from a source through two resistors in series (an algebraic
+    /// loop, solved at every evaluation); when its voltage passes `level` a mode
+    /// lowers the second resistance.
+    #[allow(algebraic_loops)]
+    pub model Charger {
+        param e1 = 1.0;
+        param r_1 = 1.0;
+        param r_2 = 2.0;
+        param r_fast = 0.5;
+        param c = 0.1;
+        param level = 0.5;
+
+        Se source = e1;
+        R r1 = r_1;
+        R r2 = if fast { r_fast } else { r_2 };
+        C cap = 1.0 / c;
+        1 current;
+        0 node;
+        source -> current -> { r1, r2, node };
+        node -> cap;
+
+        mode fast: bool = false;
+        when node.e > level { fast = true; }
+        output e2 = node.e;
     }
 }
 
@@ -256,7 +286,6 @@ mod should {
     /// p(t) = F m / c + (p_on − F m / c) exp(−c (t − t_on) / m). DOPRI5 at rtol 1e-10
     /// and an event tolerance of 1e-12 s keep both within 1e-8.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn engage_a_brake_at_the_event_and_follow_the_braked_closed_form() {
         let model = Brake::default();
         let traj = simulate(&model, dopri5(1e-10, 1e-12), 2.0, 201);
@@ -278,7 +307,6 @@ mod should {
     /// DOPRI5 (order 5) and RK4 integrate exactly up to rounding, so the impact times
     /// carry only the location tolerance (1e-12 s) and rounding: 1e-9 s is generous.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn bounce_a_ball_at_the_closed_form_impact_times() {
         let model = Ball::default();
         let expected = impact_times(1.0, 9.81, 0.8, 6);
@@ -309,7 +337,6 @@ mod should {
     /// x = cos(2 t) crosses zero at t = (j + ½) π / 2: 6 times before 10 s, the last at
     /// 5.5 π / 2. The modes count them and keep the last time.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn count_crossings_in_an_integer_mode_and_keep_a_time_in_a_real_mode() {
         let model = Counter::default();
         let traj = simulate(&model, dopri5(1e-10, 1e-12), 10.0, 101);
@@ -326,7 +353,6 @@ mod should {
     /// From x = 0 at 1 m/s: the right wall at t = 1 s, the left at t = 3 s, the right
     /// again at t = 5 s; at t = 6 s the cart is back at x = 0.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn reinit_a_body_from_a_submodel_instance() {
         let model = Corridor::default();
         let traj = simulate(&model, Solver::rk4(0.01), 6.0, 61);
@@ -342,7 +368,6 @@ mod should {
     }
 
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn assign_simultaneously_from_pre_event_values() {
         let model = Swap::default();
         let mut x = initial_state(&model);
@@ -359,9 +384,31 @@ mod should {
         assert_eq!(traj.value(last, "flag"), Some(1.0));
     }
 
+    /// Before the switch e2 = e1 (1 − exp(−t / τ₁)) with τ₁ = (r₁ + r₂) c = 0.3 s, so
+    /// it passes 0.5 V at t_on = τ₁ ln 2; after it, e2 = e1 − (e1 − 0.5) exp(−(t −
+    /// t_on) / τ₂) with τ₂ = (r₁ + r_fast) c = 0.15 s. DOPRI5 at rtol 1e-10 and the
+    /// loop solved to rounding keep both within 1e-8.
+    #[test]
+    fn switch_a_mode_in_a_model_with_an_algebraic_loop() {
+        let model = Charger::default();
+        assert_eq!(Charger::STATE_NAMES, ["cap.q", "fast"]);
+        let traj = simulate(&model, dopri5(1e-10, 1e-12), 1.0, 101);
+        assert_eq!(traj.events().len(), 1);
+        let t_on = 0.3 * 2.0f64.ln();
+        let event = traj.events().get(0).unwrap();
+        assert!((event.t - t_on).abs() < 1e-8, "{} vs {t_on}", event.t);
+        assert_eq!((event.before[1], event.after[1]), (0.0, 1.0));
+        let last = traj.len() - 1;
+        let exact = 1.0 - 0.5 * (-(1.0 - t_on) / 0.15f64).exp();
+        let e2 = traj.value(last, "e2").unwrap();
+        assert!((e2 - exact).abs() < 1e-8, "{e2} vs {exact}");
+        let mut g = [0.0];
+        model.event_indicators(0.0, &[0.08, 0.0], &mut g);
+        assert!((g[0] - (0.8 - 0.5)).abs() < 1e-12, "{g:?}");
+    }
+
     /// x = F t² / 2 reaches 1 m at t = √(2 / F) = 1 s: the run ends there.
     #[test]
-    #[ignore = "waits for h1's event driver (API commit only so far)"]
     fn stop_the_run_at_the_event() {
         let model = Stopper::default();
         let mut x = initial_state(&model);

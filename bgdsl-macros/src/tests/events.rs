@@ -119,12 +119,12 @@ fn report_conditions_that_are_no_comparison() {
 }
 
 #[test]
-fn report_unknown_modes_unswitched_modes_and_empty_whens() {
+fn report_unknown_modes_and_empty_whens() {
     let messages = errors(
-        r#"model M { C c = 1.0; I m = 1.0; 1 v; v -> { c, m }; mode stuck: bool = false; mode gear: i64 = 1;
-           output g = gear; when c.q > 1.0 { stuk = true; } when c.q < 0.0 { } }"#,
+        r#"model M { C c = 1.0; I m = 1.0; 1 v; v -> { c, m }; mode stuck: bool = false;
+           output g = if stuck { 1.0 } else { 0.0 }; when c.q > 1.0 { stuk = true; } when c.q < 0.0 { } }"#,
     );
-    assert_eq!(messages.len(), 3, "{messages:?}");
+    assert_eq!(messages.len(), 2, "{messages:?}");
     assert!(
         messages[0].starts_with("unknown mode `stuk`"),
         "{messages:?}"
@@ -137,8 +137,17 @@ fn report_unknown_modes_unswitched_modes_and_empty_whens() {
         messages[1].starts_with("event `when_2` has no action"),
         "{messages:?}"
     );
+}
+
+#[test]
+fn report_a_mode_read_but_never_switched() {
+    let messages = errors(
+        r#"model M { C c = 1.0; I m = 1.0; 1 v; v -> { c, m }; mode gear: i64 = 1; mode on: bool = false;
+           output g = if gear == 2 { 1.0 } else { 0.0 }; when c.q > 1.0 { on = true; } }"#,
+    );
+    assert_eq!(messages.len(), 1, "{messages:?}");
     assert!(
-        messages[2].starts_with("mode `gear` is read but never switched"),
+        messages[0].starts_with("mode `gear` is read but never switched"),
         "{messages:?}"
     );
 }
@@ -171,4 +180,20 @@ fn never_panic_on_malformed_whens() {
         let out = expand(&text);
         assert!(out.contains("compile_error"), "{body}: {out}");
     }
+}
+
+#[test]
+fn report_each_malformed_when_and_read_on() {
+    let messages = errors(
+        r#"model M { Se push = 1.0; I mass = 1.0; push -> mass; mode on: bool = false;
+           when { on = true; }
+           when mass.p > 1.0 { on == true; }
+           when mass.p > 2.0 { reinit mass.p; }
+           C spring = 1.0 }"#,
+    );
+    assert_eq!(messages.len(), 4, "{messages:?}");
+    assert!(messages[0].starts_with("expected a condition before the actions"));
+    assert!(messages[1].starts_with("expected an action"));
+    assert!(messages[2].starts_with("expected `=`"), "{messages:?}");
+    assert!(messages[3].starts_with("expected `;`"), "{messages:?}");
 }
