@@ -118,10 +118,10 @@ pub const TEXT: &str = r#"
         };
         a -> branch -> b;
         branch -> law;
-        /// close: the control rises through 0
-        when control > 0.0 { closed = true; }
-        /// open: the control falls through 0
-        when control < 0.0 { closed = false; }
+        /// The control rises through 0.
+        when close: control > 0.0 { closed = true; }
+        /// The control falls through 0.
+        when open: control < 0.0 { closed = false; }
     }
 
     /// An ideal diode between two nodes `a` (anode) and `b` (cathode), as
@@ -129,7 +129,8 @@ pub const TEXT: &str = r#"
     /// conducts by `e = r_on f` and blocks by `f = g_off e`. Both laws pass through the
     /// origin with positive slope, so the voltage and the current have one sign and the
     /// voltage crossing 0 is the instant either would cross it: it switches on when the
-    /// voltage rises through 0 (event `on`) and off when it falls through 0 (`off`).
+    /// voltage rises through 0 (event `conduct`) and off when it falls through 0
+    /// (`block`).
     /// With the nodes fixing the voltage (a source or a capacitor at each node, the
     /// usual case) the diode computes its current, `f = e / r_on` or `g_off e`, and
     /// `g_off = 0` is an ideal block. The user supplies `r_on > 0` (the forward path's
@@ -147,10 +148,10 @@ pub const TEXT: &str = r#"
         };
         a -> branch -> b;
         branch -> law;
-        /// on: the voltage rises through 0
-        when law.e > 0.0 { on = true; }
-        /// off: the voltage falls through 0
-        when law.e < 0.0 { on = false; }
+        /// The voltage rises through 0.
+        when conduct: law.e > 0.0 { on = true; }
+        /// The voltage falls through 0.
+        when block: law.e < 0.0 { on = false; }
     }
 
     /// An impact with restitution on a stop, for a body that reaches it: when `gap`
@@ -174,8 +175,8 @@ pub const TEXT: &str = r#"
         mode resting: bool = false;
         Se support = if resting { held } else { 0.0 };
         support -> at;
-        /// hit: the gap closes
-        when gap < 0.0 {
+        /// The gap closes.
+        when hit: gap < 0.0 {
             if restitution * body.f.abs() < v_rest && dir * held > 0.0 {
                 resting = true;
                 reinit body.p = 0.0;
@@ -183,8 +184,8 @@ pub const TEXT: &str = r#"
                 reinit body.p = -restitution * body.p;
             }
         }
-        /// lift: the support would have to pull
-        when dir * held < 0.0 { resting = false; }
+        /// The support would have to pull.
+        when lift: (if resting { dir * held } else { 1.0 }) < 0.0 { resting = false; }
     }
 
     /// A one-sided spring-damper contact at a stop: in mode `touching` a spring of
@@ -205,13 +206,15 @@ pub const TEXT: &str = r#"
         C spring { e = if touching { k * q } else { 0.0 } };
         R damper { e = if touching { c * f } else { 0.0 } };
         at -> { spring, damper };
-        /// touch: the gap closes
-        when gap < 0.0 {
+        /// The gap closes.
+        when touch: gap < 0.0 {
             touching = true;
             reinit spring.q = dir * gap;
         }
-        /// release: the contact force would pull
-        when dir * (k * spring.q + c * at.f) > 0.0 { touching = false; }
+        /// The contact force would pull.
+        when release: (if touching { dir * (k * spring.q + c * at.f) } else { -1.0 }) > 0.0 {
+            touching = false;
+        }
     }
 
     /// Kinetic Coulomb friction between two ports `a` and `b` (1-junctions: velocities,
@@ -230,10 +233,10 @@ pub const TEXT: &str = r#"
         R law { e = if forward { fc } else { -fc } };
         a -> rel -> b;
         rel -> law;
-        /// backward: the slip falls through 0
-        when law.f < 0.0 { forward = false; }
-        /// ahead: the slip rises through 0
-        when law.f > 0.0 { forward = true; }
+        /// The slip falls through 0.
+        when backward: law.f < 0.0 { forward = false; }
+        /// The slip rises through 0.
+        when ahead: law.f > 0.0 { forward = true; }
     }
 
     /// Coulomb friction with stiction between two ports `a` and `b` (1-junctions):
@@ -258,25 +261,23 @@ pub const TEXT: &str = r#"
         R law { e = if stuck { held } else if forward { fc } else { -fc } };
         a -> rel -> b;
         rel -> law;
-        /// backward: the slip falls through 0
-        when law.f < 0.0 {
-            if !stuck {
-                if held.abs() <= fs { stuck = true; } else { forward = false; }
-            }
+        /// The slip falls through 0.
+        when backward: (if stuck { 1.0 } else { law.f }) < 0.0 {
+            if held.abs() <= fs { stuck = true; } else { forward = false; }
         }
-        /// ahead: the slip rises through 0
-        when law.f > 0.0 {
-            if !stuck {
-                if held.abs() <= fs { stuck = true; } else { forward = true; }
-            }
+        /// The slip rises through 0.
+        when ahead: (if stuck { -1.0 } else { law.f }) > 0.0 {
+            if held.abs() <= fs { stuck = true; } else { forward = true; }
         }
-        /// break_ahead: the force needed to stick exceeds fs
-        when held > fs {
-            if stuck { stuck = false; forward = true; }
+        /// The force needed to stick exceeds fs.
+        when break_ahead: (if stuck { held - fs } else { -1.0 }) > 0.0 {
+            stuck = false;
+            forward = true;
         }
-        /// break_back: the force needed to stick falls below -fs
-        when held < -fs {
-            if stuck { stuck = false; forward = false; }
+        /// The force needed to stick falls below -fs.
+        when break_back: (if stuck { held + fs } else { 1.0 }) < 0.0 {
+            stuck = false;
+            forward = false;
         }
     }
 

@@ -47,12 +47,13 @@ fn engages_at_the_speed_match_and_turns_as_one_inertia() {
 
     let events = traj.events();
     assert_eq!(events.len(), 1, "one event: the engagement");
-    assert!((events[0].t - t_e).abs() < 1e-10, "{} vs {t_e}", events[0].t);
+    let first = events.get(0).unwrap();
+    assert!((first.t - t_e).abs() < 1e-10, "{} vs {t_e}", first.t);
     let stuck = ClutchEngagement::STATE_NAMES
         .iter()
         .position(|n| *n == "clutch.plates.stuck")
         .unwrap();
-    assert_eq!((events[0].before[stuck], events[0].after[stuck]), (0.0, 1.0));
+    assert_eq!((first.before[stuck], first.after[stuck]), (0.0, 1.0));
 
     let (w1, w2) = (
         traj.column("w_engine").unwrap(),
@@ -103,7 +104,7 @@ fn energy_account_closes_with_the_friction_loss() {
     let events: f64 = traj
         .events()
         .iter()
-        .map(|e| event_energy(&model, e.t, &e.before, &e.after).unwrap())
+        .map(|e| event_energy(&model, e.t, e.before, e.after).unwrap())
         .sum();
     assert!(events.abs() < 1e-9, "the engagement changes the stored energy by {events} J");
     let last = times.len() - 1;
