@@ -125,7 +125,76 @@ static MODELS: &[ModelEntry] = &[
     ModelEntry::new::<Bouncing>("bouncing"),
     ModelEntry::new::<Renamed>("stopping"),
     ModelEntry::new::<Alarm>("alarm"),
+    ModelEntry::new::<Relay>("relay"),
 ];
+
+/// A relay the host drives: its input `u` rising through 1 switches the mode `on`
+/// (the only state), an event the host causes by setting the input.
+#[derive(Clone, Debug)]
+struct Relay {
+    u: f64,
+}
+
+impl Default for Relay {
+    fn default() -> Self {
+        Relay { u: 0.0 }
+    }
+}
+
+impl Model for Relay {
+    type Params = ();
+    const NAME: &'static str = "Relay";
+    const STATE_NAMES: &'static [&'static str] = &["on"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    const EVENTS: &'static [Event] = &[Event {
+        name: "pull_in",
+        direction: Direction::Rising,
+        doc: "u rises through 1",
+    }];
+    const MODES: &'static [ModeInfo] = &[ModeInfo {
+        name: "on",
+        kind: ModeKind::Bool,
+        doc: "the relay has pulled in",
+    }];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0[0] = 0.0;
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, _x: &[T], dx: &mut [T]) {
+        dx[0] = T::from_f64(0.0);
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+    fn event_indicators(&self, _t: f64, _x: &[f64], g: &mut [f64]) {
+        g[0] = self.u - 1.0;
+    }
+    fn apply_event(&self, _index: usize, _t: f64, x: &mut [f64]) -> EventAction {
+        x[0] = 1.0;
+        EventAction::Continue
+    }
+}
+
+impl WithInputs for Relay {
+    type Inputs = f64;
+    const INPUTS: &'static [InputInfo] = &[InputInfo {
+        name: "u",
+        unit: "",
+        doc: "the drive",
+    }];
+    fn inputs(&self) -> f64 {
+        self.u
+    }
+    fn set_inputs(&mut self, u: f64) {
+        self.u = u;
+    }
+    fn input_values(&self, out: &mut [f64]) {
+        out[0] = self.u;
+    }
+    fn set_input_values(&mut self, values: &[f64]) {
+        self.u = values[0];
+    }
+}
 
 /// A clock whose alarm stops the run at `t = 1` (`x' = 1`, event `ring` when `t - 1`
 /// rises through 0): a stop that can fall on a communication point exactly.
@@ -803,4 +872,63 @@ fn a_zeno_ball_fails_its_step_with_the_chattering_message() {
     }
     assert_eq!(last, 4.0);
     assert_eq!(terminated, FALSE, "a failure is not a stop");
+}
+
+/// Model Exchange: an event the host causes by setting an input is found, whether the
+/// host sets it in Event Mode or in Continuous-Time Mode (then the next
+/// `fmi2CompletedIntegratorStep` asks for Event Mode). The relay has no continuous
+/// state: `nx` is 0. Not in Co-Simulation, inside a step (a stated limit).
+#[test]
+fn an_event_the_host_causes_through_an_input_is_handled() {
+    let log = Log::default();
+    let cb = callbacks(&log);
+    let (u, on) = (vr::<Relay>("u"), vr::<Relay>("on"));
+    let mut value = 0.0;
+    let mut info = EventInfo::QUIET;
+    let (mut enter, mut stop) = (FALSE, FALSE);
+    // SAFETY: a live component and arrays of the lengths passed.
+    unsafe {
+        // In Continuous-Time Mode, found at the step.
+        let c = running::<Relay>(0, &cb);
+        assert_eq!(fmi2NewDiscreteStates(c, &mut info), Status::Ok);
+        assert_eq!(fmi2EnterContinuousTimeMode(c), Status::Ok);
+        assert_eq!(fmi2SetReal(c, &u, 1, &0.5), Status::Ok);
+        assert_eq!(
+            fmi2CompletedIntegratorStep(c, TRUE, &mut enter, &mut stop),
+            Status::Ok
+        );
+        assert_eq!(enter, FALSE, "0.5 is below the threshold");
+        assert_eq!(fmi2SetReal(c, &u, 1, &2.0), Status::Ok);
+        assert_eq!(
+            fmi2CompletedIntegratorStep(c, TRUE, &mut enter, &mut stop),
+            Status::Ok
+        );
+        assert_eq!(enter, TRUE);
+        assert_eq!(fmi2EnterEventMode(c), Status::Ok);
+        assert_eq!(fmi2NewDiscreteStates(c, &mut info), Status::Ok);
+        assert_eq!(info.values_of_continuous_states_changed, FALSE); // a mode only
+        assert_eq!(fmi2GetReal(c, &on, 1, &mut value), Status::Ok);
+        assert_eq!(value, 1.0);
+        fmi2FreeInstance(c);
+
+        // In Event Mode, found by fmi2NewDiscreteStates.
+        let c = running::<Relay>(0, &cb);
+        assert_eq!(fmi2NewDiscreteStates(c, &mut info), Status::Ok);
+        assert_eq!(fmi2SetReal(c, &u, 1, &2.0), Status::Ok);
+        assert_eq!(fmi2NewDiscreteStates(c, &mut info), Status::Ok);
+        assert_eq!(fmi2GetReal(c, &on, 1, &mut value), Status::Ok);
+        assert_eq!(value, 1.0);
+        fmi2FreeInstance(c);
+
+        // Co-Simulation: the limit the README states. The step takes its indicators'
+        // reference afresh at its start, after the host set the input, so the relay
+        // does not pull in.
+        let c = running::<Relay>(1, &cb);
+        assert_eq!(fmi2DoStep(c, 0.0, 0.5, TRUE), Status::Ok);
+        assert_eq!(fmi2SetReal(c, &u, 1, &2.0), Status::Ok);
+        assert_eq!(fmi2DoStep(c, 0.5, 0.5, TRUE), Status::Ok);
+        assert_eq!(fmi2GetReal(c, &on, 1, &mut value), Status::Ok);
+        assert_eq!(value, 0.0);
+        fmi2FreeInstance(c);
+    }
 }
