@@ -696,9 +696,16 @@ impl Instance {
         }
         let outcome = self.model.advance_to(end, &mut self.x);
         if self.logger.wants(Category::Events) {
-            self.model.step_events(&mut |e| {
+            let more = self.model.step_events(&mut |e| {
                 self.log_event(e.name, e.t, e.before, e.after, e.action);
             });
+            if more > 0 {
+                self.logger.log_in(
+                    Category::Events,
+                    Status::Ok,
+                    &format!("and {more} more events in the step from t = {t} to t = {end}"),
+                );
+            }
         }
         match outcome {
             Ok(None) => {

@@ -139,8 +139,9 @@ pub trait FmuModel {
     /// The solver failed; the integration then stays where it was.
     fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<Option<Stopped>, String>;
     /// Shows `visit` each event the last [`FmuModel::advance_to`] handled, in time
-    /// order (those the stepper's log had room for: 64 per step).
-    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>));
+    /// order (those the stepper's log had room for: 64 per step), and returns how many
+    /// more it handled.
+    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>)) -> usize;
     /// Back to the model as first made: default parameters and inputs, no integration.
     fn reset(&mut self);
 }
@@ -359,12 +360,14 @@ impl<M: Exportable> FmuModel for Adapter<M> {
         }
     }
 
-    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>)) {
-        if let Holder::Stepping(stepper) = &self.holder {
-            for event in stepper.events().iter() {
-                visit(&event);
-            }
+    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>)) -> usize {
+        let Holder::Stepping(stepper) = &self.holder else {
+            return 0;
+        };
+        for event in stepper.events().iter() {
+            visit(&event);
         }
+        stepper.events().dropped()
     }
 
     fn reset(&mut self) {

@@ -858,13 +858,36 @@ fn a_zeno_ball_fails_its_step_with_the_chattering_message() {
     let (mut last, mut terminated) = (0.0, TRUE);
     // SAFETY: a live component and arrays of the lengths passed.
     unsafe {
+        assert_eq!(
+            fmi2SetDebugLogging(c, TRUE, 1, [c"logEvents".as_ptr()].as_ptr()),
+            Status::Ok
+        );
         assert_eq!(fmi2DoStep(c, 0.0, 4.0, TRUE), Status::Ok);
+        // Two events at each bounce of the closed form's before 4 s: within the log's 64.
+        let early = 2 * (1..).take_while(|&k| bounce(k).0 < 4.0).count();
+        let logged = |log: &Log| log.all().iter().filter(|m| m.1 == "logEvents").count();
+        assert_eq!(logged(&log), early);
         assert_eq!(fmi2DoStep(c, 4.0, 1.0, TRUE), Status::Discard);
         let message = log.last();
         assert!(
             message.contains("the step from t = 4 to t = 5 failed")
                 && message.contains("chattered"),
             "{message}"
+        );
+        // The events of the failed step: the 64 the log keeps, then how many more.
+        let events: Vec<_> = log
+            .all()
+            .into_iter()
+            .filter(|m| m.1 == "logEvents")
+            .collect();
+        assert_eq!(events.len(), early + 64 + 1);
+        assert!(
+            events[early + 64].2.starts_with("and ")
+                && events[early + 64]
+                    .2
+                    .contains(" more events in the step from t = 4 to t = 5"),
+            "{:?}",
+            events[early + 64]
         );
         assert_eq!(fmi2GetRealStatus(c, 2, &mut last), Status::Ok);
         assert_eq!(fmi2GetBooleanStatus(c, 3, &mut terminated), Status::Ok);
