@@ -21,8 +21,11 @@
 //!   (no event fires at `t0`), after every step without an event, and after every
 //!   event (re-evaluated at `(t*, x+)`). A reference of exactly 0 fires in no direction
 //!   ([`Direction::fires`]): it takes its sign from the indicator's next non-zero
-//!   value. A [`Stepper`](crate::Stepper) starts a run at every advance, so its
-//!   references are taken afresh there (and after `set_state`, `restore`).
+//!   value. A [`Stepper`](crate::Stepper)'s advance continues the one before: an
+//!   event armed by a bounce (below) at its very end stays armed and the chattering
+//!   counters run on, while every other reference is taken again with the model as it
+//!   now stands (a crossing the host caused by changing an input does not fire);
+//!   `set_state` and `restore` start afresh.
 //! - **Bounces.** An event that fired and, after its action, sits at zero or on the
 //!   side it crossed to (a ball at the floor, `h ≈ -1e-13`, its speed reversed) is
 //!   looked at `1e-8 · max(1, |t|)` s later along the new motion (one explicit Euler

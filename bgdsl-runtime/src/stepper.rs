@@ -48,6 +48,9 @@ pub struct Stepper<M: Model + 'static> {
     x: Vec<f64>,
     y: Vec<f64>,
     events: EventLog,
+    /// The last advance ended where the stepper stands, so the next continues its
+    /// events (false at the start, after `set_state`, `restore` or a failed advance).
+    continuing: bool,
 }
 
 /// The events a stepper keeps per advance unless told otherwise
@@ -132,6 +135,7 @@ impl<M: Model + 'static> Stepper<M> {
             x: vec![0.0; M::N_STATES],
             y: vec![0.0; M::N_OUTPUTS],
             events: EventLog::bounded(M::N_STATES, DEFAULT_EVENT_CAPACITY),
+            continuing: false,
         };
         stepper.set_state(t0, x0)?;
         Ok(stepper)
@@ -172,7 +176,11 @@ impl<M: Model + 'static> Stepper<M> {
             events: &mut self.events,
             stopped: false,
         };
+        if core::mem::take(&mut self.continuing) {
+            self.simulation.continue_events();
+        }
         self.simulation.run(self.t, &self.x, &[t], &mut recorder)?;
+        self.continuing = true;
         let stopped = recorder.stopped;
         self.x.copy_from_slice(self.simulation.state());
         // A stop action ends the advance at the event's time, before `t`.
@@ -185,10 +193,14 @@ impl<M: Model + 'static> Stepper<M> {
     /// ([`Stepper::set_event_capacity`], 64 by default), beyond which they are only
     /// counted ([`EventLog::dropped`]).
     ///
-    /// Events the host causes itself by changing inputs or parameters between advances
-    /// (a set point stepped across a switching threshold) are the host's to handle:
-    /// the indicators' references are taken afresh at the start of every advance, so
-    /// such a crossing does not fire.
+    /// An advance continues the events of the one before: an event that fired at its
+    /// very end (a stop, a bounce) is armed as it would be within one run, and the
+    /// chattering rule counts on. Events the host causes itself by changing inputs or
+    /// parameters between advances (a set point stepped across a switching threshold)
+    /// are the host's to handle: the indicators' references are taken again, with the
+    /// model as it now stands, at the start of every advance, so such a crossing does
+    /// not fire. [`Stepper::set_state`] and [`Stepper::restore`] start the events
+    /// afresh (no event at the new point).
     pub fn events(&self) -> &EventLog {
         &self.events
     }
@@ -257,6 +269,7 @@ impl<M: Model + 'static> Stepper<M> {
         }
         self.t = t;
         self.x.copy_from_slice(x);
+        self.continuing = false;
         Ok(())
     }
 

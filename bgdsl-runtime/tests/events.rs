@@ -500,6 +500,70 @@ mod should {
         assert_eq!(stepper.events().len(), 1);
     }
 
+    /// A stepper's advances continue each other's events: a both-ways floor event that
+    /// stops every advance at an impact (bounce applied) is armed for the next advance,
+    /// which does not fire again as the ball leaves the floor from `h ≈ -1e-13`; each
+    /// advance ends at the next closed-form impact. `set_state` starts afresh, even at
+    /// the same point (then the climb fires).
+    #[test]
+    fn continue_events_from_one_stepper_advance_to_the_next() {
+        let ball = EitherWayBall(Ball {
+            stop: true,
+            ..Ball::default()
+        });
+        for (name, solver) in methods() {
+            let mut stepper = Stepper::new(ball.clone(), solver).unwrap();
+            for k in 1..=5 {
+                stepper.advance_to(10.0).unwrap();
+                assert_eq!(stepper.events().len(), 1, "{name}: advance {k}");
+                let t = stepper.events().times()[0];
+                assert!(
+                    (t - ball.0.impact_time(k)).abs() < 1e-9,
+                    "{name}: impact {k} at {t}"
+                );
+                assert_eq!(stepper.time(), t);
+            }
+            // `set_state` at the very same point starts afresh: the reference is where
+            // the ball stands (a hair below the floor), so its climb through 0 is now a
+            // crossing of the both-ways event, at once.
+            let (t, x) = (stepper.time(), stepper.state().to_vec());
+            assert!(x[0] <= 0.0 && x[1] > 0.0, "{name}: {x:?}");
+            stepper.set_state(t, &x).unwrap();
+            stepper.advance_to(10.0).unwrap();
+            let first = stepper.events().times()[0];
+            assert!(first - t < 1e-9, "{name}: {first} after {t}");
+        }
+    }
+
+    /// The chattering rule counts on across a stepper's advances: the Zeno ball advanced
+    /// 1 ms at a time ends as in one run (`max_repeats` 3, `min_interval` 0.02 s).
+    #[test]
+    fn count_chattering_across_stepper_advances() {
+        let ball = Ball {
+            e: 0.5,
+            ..Ball::default()
+        };
+        let k = (2..)
+            .find(|&k| ball.impact_time(k) - ball.impact_time(k - 1) < 0.02)
+            .unwrap();
+        let mut stepper = Stepper::new(ball.clone(), Solver::dopri5()).unwrap();
+        stepper
+            .set_event_options(EventOptions {
+                min_interval: 0.02,
+                max_repeats: 3,
+                ..EventOptions::default()
+            })
+            .unwrap();
+        let error = (1..10_000)
+            .find_map(|i| stepper.advance_to(i as f64 * 1e-3).err())
+            .unwrap();
+        let SolverError::Chattering { count, t, .. } = error else {
+            panic!("{error}")
+        };
+        assert_eq!(count, 3);
+        assert!((t - ball.impact_time(k + 2)).abs() < 1e-9);
+    }
+
     /// The energy an impact takes, `event_energy`, is `(e² - 1) v² / 2` (unit mass),
     /// and with it the ball's energy balance closes over 10 bounces:
     /// `H(t) - H(0) = Σ event_energy` (no sources, no resistors).

@@ -72,6 +72,8 @@ pub struct Simulation<'m, M: Model> {
     /// The state at the start of the last step (fixed-step methods re-take the step
     /// from it to locate an event).
     x_start: Vec<f64>,
+    /// The next run continues the last one's events ([`Simulation::continue_events`]).
+    resume_events: bool,
 }
 
 /// What a run does after a step, once its events are handled.
@@ -262,6 +264,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             stats: Stats::default(),
             events: Events::new::<M>(),
             x_start: vec![0.0; n],
+            resume_events: false,
         })
     }
 
@@ -295,6 +298,13 @@ impl<'m, M: Model> Simulation<'m, M> {
         options.validate()?;
         self.events.options = options;
         Ok(())
+    }
+
+    /// Makes the next run continue the events of the last one, which ended where the
+    /// next starts (a [`Stepper`](crate::Stepper)'s next advance): see
+    /// [`crate::event`]'s references.
+    pub(crate) fn continue_events(&mut self) {
+        self.resume_events = true;
     }
 
     /// The event options runs use.
@@ -357,6 +367,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Stats, SolverError> {
         self.stats = Stats::default();
+        let resume_events = core::mem::take(&mut self.resume_events);
         if x0.len() != M::N_STATES {
             return Err(SolverError::StateLengthMismatch {
                 model: M::NAME,
@@ -379,8 +390,12 @@ impl<'m, M: Model> Simulation<'m, M> {
             k.restart();
         }
         if self.events.active() {
-            self.events
-                .reset(self.model.get(), t0, &self.x, &mut self.stats);
+            let model = self.model.get();
+            if resume_events {
+                self.events.resume(model, t0, &self.x, &mut self.stats);
+            } else {
+                self.events.reset(model, t0, &self.x, &mut self.stats);
+            }
         }
         match self.solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => self
@@ -630,6 +645,9 @@ impl<'m, M: Model> Simulation<'m, M> {
         let action = self
             .events
             .apply(model, t_star, &mut self.x, recorder, &mut self.stats)?;
+        // Also before a stop: a stepper's next advance continues from here.
+        self.events
+            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
         if action == EventAction::Stop {
             let mut recorded = false;
             while *next < n && samples.get(*next) <= t_star {
@@ -642,8 +660,6 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
             return Ok(Flow::Stop);
         }
-        self.events
-            .rearm(self.model.get(), t_star, &self.x, &mut self.stats)?;
         Ok(Flow::Restart)
     }
 

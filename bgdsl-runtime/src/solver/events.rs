@@ -125,6 +125,23 @@ impl Events {
         self.len = 0;
     }
 
+    /// Starts a run that continues the last one from where it ended (a stepper's next
+    /// advance): an event armed by a bounce at the very end stays armed, and the
+    /// chattering counters run on; every other reference is the indicator at `(t, x)`
+    /// as the model now stands, so a crossing the host caused between the runs (an
+    /// input changed) does not fire.
+    pub fn resume<M: Model>(&mut self, model: &M, t: f64, x: &[f64], stats: &mut Stats) {
+        model.event_indicators(t, x, &mut self.value);
+        stats.n_event_fn += 1;
+        for ((s, v), armed) in self.sign.iter_mut().zip(&self.value).zip(&self.armed) {
+            if !armed {
+                *s = sign_of(*v);
+            }
+        }
+        self.handled = 0;
+        self.len = 0;
+    }
+
     fn fires(&self, i: usize) -> bool {
         self.info[i].direction.fires(self.sign[i], self.g[i])
     }

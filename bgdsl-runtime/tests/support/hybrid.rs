@@ -7,7 +7,7 @@ use bgdsl_runtime::{
 
 /// A ball of unit mass dropped from rest at height `h0` onto a floor at 0 under
 /// gravity `g`: `h' = v`, `v' = -g`; when `h` falls through 0, `v -> -e v`. With `stop`,
-/// the first impact ends the run instead. `floor` shifts the floor (far below: the
+/// every impact (the bounce applied) also ends the run. `floor` shifts the floor (far below: the
 /// same free fall without events, for comparisons).
 #[derive(Clone, Debug)]
 pub struct Ball {
@@ -91,11 +91,12 @@ impl Model for Ball {
         g[0] = x[0] - self.floor;
     }
     fn apply_event(&self, _index: usize, _t: f64, x: &mut [f64]) -> EventAction {
-        if self.stop {
-            return EventAction::Stop;
-        }
         x[1] *= -self.e;
-        EventAction::Continue
+        if self.stop {
+            EventAction::Stop
+        } else {
+            EventAction::Continue
+        }
     }
 }
 
