@@ -197,3 +197,60 @@ fn report_each_malformed_when_and_read_on() {
     assert!(messages[2].starts_with("expected `=`"), "{messages:?}");
     assert!(messages[3].starts_with("expected `;`"), "{messages:?}");
 }
+
+/// Random `when` blocks and `mode` declarations made of the language's pieces (a
+/// seeded generator, so every run tests the same 2000 cases): each expands to code or
+/// to compile errors, never to a panic of the macro.
+#[test]
+fn never_panic_on_random_event_statements() {
+    const PIECES: &[&str] = &[
+        "when", "mode", "reinit", "stop", "crossing", "if", "else", "c.q", "m.p", "on", "n", "x",
+        "t", "1.0", "0", "true", "<", ">", "<=", "==", "&&", "=", ";", ":", ",", ".", "-", "+",
+        "(", ")", "{", "}", "{ }", "bool", "i64", "f64", "hit", "v.f", "[0]",
+    ];
+    let mut seed: u64 = 0x5EED_0F_E7E7;
+    let mut next = |n: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as usize) % n
+    };
+    let (mut expanded, mut rejected) = (0, 0);
+    for _ in 0..2000 {
+        let length = 1 + next(14);
+        let mut text = String::new();
+        let mut depth = (0i32, 0i32);
+        for _ in 0..length {
+            let piece = PIECES[next(PIECES.len())];
+            match piece {
+                "(" => depth.0 += 1,
+                ")" if depth.0 == 0 => continue,
+                ")" => depth.0 -= 1,
+                "{" => depth.1 += 1,
+                "}" if depth.1 == 0 => continue,
+                "}" => depth.1 -= 1,
+                _ => {}
+            }
+            text.push_str(piece);
+            text.push(' ');
+        }
+        text.push_str(&")".repeat(depth.0 as usize));
+        text.push_str(&"}".repeat(depth.1 as usize));
+        let model = format!(
+            "model M {{ C c = 1.0; I m = 1.0; 1 v; v -> {{ c, m }}; mode on: bool = false; \
+             mode n: i64 = 0; state x: f64 = 0.0; der x = v.f; when c.q > 0.5 {{ on = true; n = n + 1; }} \
+             {text} }}"
+        );
+        let Ok(tokens) = model.parse() else {
+            continue;
+        };
+        let out = crate::expand::expand(tokens).to_string();
+        expanded += 1;
+        rejected += usize::from(out.contains("compile_error"));
+    }
+    // Most token soups are mistakes; the cases reach the stages past parsing too.
+    assert!(
+        expanded > 1500 && rejected > 1000 && expanded > rejected,
+        "{expanded} {rejected}"
+    );
+}
