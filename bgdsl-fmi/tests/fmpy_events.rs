@@ -6,10 +6,10 @@
 //! solver locates and handles the events inside each `fmi2DoStep`).
 //!
 //! `tests/fmpy_check.py` validates the FMUs of every hybrid model of the library and
-//! runs the ball's and the rectifier's; FMPy records every grid
-//! point and, in Model Exchange, the state on both sides of every event it handled
-//! (`record_events`, its default). The results are compared here with the project's
-//! own runs of the same models:
+//! runs the ball's and the rectifier's; FMPy records every grid point and, in Model
+//! Exchange, the state on both sides of every event it handled (`record_events`, its
+//! default). The results are compared here with the project's own runs of the same
+//! models:
 //!
 //! - Co-Simulation against a [`Stepper`] stepped exactly as FMPy steps the FMU: the
 //!   same code, so identical to rounding (tolerance 1e-12 of each signal's range);
