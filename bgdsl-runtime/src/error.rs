@@ -184,6 +184,16 @@ pub enum SolverError {
         /// The time since its previous firing, s (0 when it could not be resolved).
         interval: f64,
     },
+    /// An event indicator ([`Model::event_indicators`](crate::Model::event_indicators))
+    /// evaluated to NaN or infinity, so whether its event fires cannot be told.
+    NonFiniteIndicator {
+        /// The event's name.
+        event: &'static str,
+        /// The time of the evaluation.
+        t: f64,
+        /// The offending value.
+        value: f64,
+    },
     /// A run handled more than [`EventOptions::max_events`](crate::EventOptions::max_events)
     /// events.
     TooManyEvents {
@@ -418,6 +428,13 @@ impl fmt::Display for SolverError {
                      `EventOptions::min_interval` / `max_repeats` if the switching is real",
                 )
             }
+            SolverError::NonFiniteIndicator { event, t, value } => write!(
+                f,
+                "at t = {}, the indicator of event `{event}` evaluated to {}: its \
+                 condition is undefined at the state reached",
+                Num(*t),
+                Num(*value)
+            ),
             SolverError::TooManyEvents { event, t, limit } => write!(
                 f,
                 "at t = {}, event `{event}` went over the limit of {limit} events in one \

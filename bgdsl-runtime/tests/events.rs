@@ -399,6 +399,48 @@ mod should {
         }
     }
 
+    /// An indicator that evaluates to NaN (here `sqrt(1 - t)` past t = 1) ends the run
+    /// with `NonFiniteIndicator` naming the event, not with an event silently never
+    /// firing.
+    #[test]
+    fn refuse_an_indicator_that_is_not_a_number() {
+        use bgdsl_runtime::{Direction, EventInfo, Scalar};
+        struct Undefined;
+        impl Model for Undefined {
+            type Params = ();
+            const NAME: &'static str = "undefined";
+            const STATE_NAMES: &'static [&'static str] = &["x"];
+            const OUTPUT_NAMES: &'static [&'static str] = &[];
+            const EVENTS: &'static [EventInfo] = &[EventInfo {
+                name: "root",
+                direction: Direction::Both,
+                doc: "",
+            }];
+            fn params(&self) -> &() {
+                &()
+            }
+            fn initial_state(&self, x0: &mut [f64]) {
+                x0[0] = 0.0;
+            }
+            fn derivatives<T: Scalar>(&self, _t: f64, _x: &[T], dx: &mut [T]) {
+                dx[0] = T::from_f64(1.0);
+            }
+            fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+            fn event_indicators(&self, t: f64, _x: &[f64], g: &mut [f64]) {
+                g[0] = (1.0 - t).sqrt() + 1.0;
+            }
+        }
+        for (name, solver) in methods() {
+            let mut sim = Simulation::new(&Undefined, solver).unwrap();
+            let error = sim.run(0.0, &[0.0], &[2.0], &mut ()).unwrap_err();
+            let SolverError::NonFiniteIndicator { event, t, value } = error else {
+                panic!("{name}: {error}")
+            };
+            assert_eq!(event, "root");
+            assert!(t > 1.0 && value.is_nan(), "{name}: {t} {value}");
+        }
+    }
+
     /// Options out of range are refused by name.
     #[test]
     fn refuse_bad_event_options() {

@@ -392,9 +392,9 @@ impl<'m, M: Model> Simulation<'m, M> {
         if self.events.active() {
             let model = self.model.get();
             if resume_events {
-                self.events.resume(model, t0, &self.x, &mut self.stats);
+                self.events.resume(model, t0, &self.x, &mut self.stats)?;
             } else {
-                self.events.reset(model, t0, &self.x, &mut self.stats);
+                self.events.reset(model, t0, &self.x, &mut self.stats)?;
             }
         }
         match self.solver {
@@ -601,7 +601,7 @@ impl<'m, M: Model> Simulation<'m, M> {
         recorder: &mut R,
     ) -> Result<Flow, SolverError> {
         let model = self.model.get();
-        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats) {
+        if !self.events.active() || !self.events.check(model, self.t, &self.x, &mut self.stats)? {
             return Ok(Flow::Continue);
         }
         let t_b = self.t;

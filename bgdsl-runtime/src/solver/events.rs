@@ -63,7 +63,15 @@ pub(crate) struct Events {
     rate: Vec<f64>,
 }
 
-/// The sign of `v`: -1, 0 or +1 (0 for NaN too: a pending reference).
+/// Which of [`Events`]' indicator vectors was just evaluated.
+#[derive(Clone, Copy, Debug)]
+enum IndicatorBuffer {
+    Value,
+    End,
+    Probe,
+}
+
+/// The sign of `v`: -1, 0 or +1.
 fn sign_of(v: f64) -> f64 {
     if v > 0.0 {
         1.0
@@ -112,9 +120,16 @@ impl Events {
 
     /// Starts a run at `(t, x)`: the references are the indicators there (no event at
     /// the start), the counters zero.
-    pub fn reset<M: Model>(&mut self, model: &M, t: f64, x: &[f64], stats: &mut Stats) {
+    pub fn reset<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        stats: &mut Stats,
+    ) -> Result<(), SolverError> {
         model.event_indicators(t, x, &mut self.value);
         stats.n_event_fn += 1;
+        self.finite(model, t, IndicatorBuffer::Value)?;
         for (s, v) in self.sign.iter_mut().zip(&self.value) {
             *s = sign_of(*v);
         }
@@ -123,6 +138,7 @@ impl Events {
         self.repeats.fill(0);
         self.handled = 0;
         self.len = 0;
+        Ok(())
     }
 
     /// Starts a run that continues the last one from where it ended (a stepper's next
@@ -130,9 +146,16 @@ impl Events {
     /// chattering counters run on; every other reference is the indicator at `(t, x)`
     /// as the model now stands, so a crossing the host caused between the runs (an
     /// input changed) does not fire.
-    pub fn resume<M: Model>(&mut self, model: &M, t: f64, x: &[f64], stats: &mut Stats) {
+    pub fn resume<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        stats: &mut Stats,
+    ) -> Result<(), SolverError> {
         model.event_indicators(t, x, &mut self.value);
         stats.n_event_fn += 1;
+        self.finite(model, t, IndicatorBuffer::Value)?;
         for ((s, v), armed) in self.sign.iter_mut().zip(&self.value).zip(&self.armed) {
             if !armed {
                 *s = sign_of(*v);
@@ -140,6 +163,33 @@ impl Events {
         }
         self.handled = 0;
         self.len = 0;
+        Ok(())
+    }
+
+    /// Fails if an indicator just evaluated into `buffer` is not finite (with the
+    /// model's own error, if its evaluation failed).
+    fn finite<M: Model>(
+        &self,
+        model: &M,
+        t: f64,
+        buffer: IndicatorBuffer,
+    ) -> Result<(), SolverError> {
+        let values = match buffer {
+            IndicatorBuffer::Value => &self.value,
+            IndicatorBuffer::End => &self.g,
+            IndicatorBuffer::Probe => &self.probe,
+        };
+        match values.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(match model.evaluation_error() {
+                Some(cause) => SolverError::InvalidModel(cause),
+                None => SolverError::NonFiniteIndicator {
+                    event: self.info[i].name,
+                    t,
+                    value: values[i],
+                },
+            }),
+        }
     }
 
     fn fires(&self, i: usize) -> bool {
@@ -148,18 +198,25 @@ impl Events {
 
     /// Evaluates the indicators at the end `(t, x)` of an accepted step. Returns whether
     /// an event fires in the step; if none does, the end becomes the references.
-    pub fn check<M: Model>(&mut self, model: &M, t: f64, x: &[f64], stats: &mut Stats) -> bool {
+    pub fn check<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        stats: &mut Stats,
+    ) -> Result<bool, SolverError> {
         model.event_indicators(t, x, &mut self.g);
         stats.n_event_fn += 1;
+        self.finite(model, t, IndicatorBuffer::End)?;
         if (0..self.info.len()).any(|i| self.fires(i)) {
-            return true;
+            return Ok(true);
         }
         self.value.copy_from_slice(&self.g);
         for (s, v) in self.sign.iter_mut().zip(&self.g) {
             *s = sign_of(*v);
         }
         self.armed.fill(false);
-        false
+        Ok(false)
     }
 
     /// Locates the earliest crossing in the step `[t_a, t_b]` that [`Events::check`]
@@ -237,6 +294,7 @@ impl Events {
         state_at(t, &mut self.scratch)?;
         model.event_indicators(t, &self.scratch, &mut self.probe);
         *n_event_fn += 1;
+        self.finite(model, t, IndicatorBuffer::Probe)?;
         Ok(self.probe[i])
     }
 
@@ -399,6 +457,7 @@ impl Events {
     ) -> Result<(), SolverError> {
         model.event_indicators(t, x, &mut self.value);
         stats.n_event_fn += 1;
+        self.finite(model, t, IndicatorBuffer::Value)?;
         for (s, v) in self.sign.iter_mut().zip(&self.value) {
             *s = sign_of(*v);
         }
@@ -414,6 +473,7 @@ impl Events {
         }
         model.event_indicators(t + tau, &self.scratch, &mut self.probe);
         stats.n_event_fn += 1;
+        self.finite(model, t + tau, IndicatorBuffer::Probe)?;
         for k in 0..self.len {
             let i = self.fired[k];
             if stuck(self, i) && self.probe[i] * self.from[i] > 0.0 {
