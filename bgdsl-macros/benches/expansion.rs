@@ -27,6 +27,12 @@ mod dims;
 mod equations;
 #[path = "../src/errors.rs"]
 mod errors;
+#[path = "../src/event_code.rs"]
+mod event_code;
+#[path = "../src/event_syntax.rs"]
+mod event_syntax;
+#[path = "../src/events.rs"]
+mod events;
 #[path = "../src/expand.rs"]
 mod expand;
 #[path = "../src/flatten.rs"]

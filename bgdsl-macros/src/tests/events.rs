@@ -208,7 +208,7 @@ fn never_panic_on_random_event_statements() {
         "t", "1.0", "0", "true", "<", ">", "<=", "==", "&&", "=", ";", ":", ",", ".", "-", "+",
         "(", ")", "{", "}", "{ }", "bool", "i64", "f64", "hit", "v.f", "[0]",
     ];
-    let mut seed: u64 = 0x5EED_0F_E7E7;
+    let mut seed: u64 = 0x5EED_0FE7_E7E7;
     let mut next = |n: usize| {
         seed = seed
             .wrapping_mul(6364136223846793005)
