@@ -238,6 +238,8 @@ fn exponential_diode_stays_within_the_bound_of_the_ideal_one() {
         .run_uniform(0.0, &x0, T_END, 401, &mut switched)
         .unwrap();
 
+    let knee = smooth.column("v_diode").unwrap().iter().fold(f64::MIN, |a, &b| a.max(b));
+    assert!(knee < p.v_knee, "the diode stays on its exponential: {knee} V");
     let (a, b) = (smooth.column("v_out").unwrap(), switched.column("v_out").unwrap());
     let worst = a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst <= bound, "max |v_exp − v_ideal| = {worst} V > bound {bound} V");

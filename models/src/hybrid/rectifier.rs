@@ -73,7 +73,10 @@ bond_graph! {
     /// `r_source`, so the diode's forward drop (about 0.7 V at 1 A with the defaults)
     /// and its leakage (`i_s`) replace the ideal switch. The resistor and the diode
     /// share one current and split the voltage between them: an algebraic loop,
-    /// solved at each evaluation.
+    /// solved at each evaluation. Above `v_knee` the exponential is continued by its
+    /// tangent (the usual limiting of circuit simulators: value and slope continuous),
+    /// so that a Newton iterate far up the exponential cannot overflow; the solution
+    /// stays well below it (0.72 V at the crest's 1 A with the defaults).
     ///
     /// States: `cap.q` (charge, C).
     ///
@@ -84,6 +87,7 @@ bond_graph! {
     /// | `r_source` | source resistance | Ω |
     /// | `i_s` | diode saturation current | A |
     /// | `n_vt` | ideality factor times the thermal voltage | V |
+    /// | `v_knee` | voltage above which the exponential continues as its tangent | V |
     /// | `r_load` | load resistance | Ω |
     /// | `capacitance` | smoothing capacitor | F |
     pub model HalfWaveRectifierExp {
@@ -97,6 +101,8 @@ bond_graph! {
         param i_s = 1.0e-12 in "A";
         /// ideality factor times the thermal voltage (1 × 25.85 mV at 300 K)
         param n_vt = 0.02585 in "V";
+        /// voltage above which the exponential continues as its tangent
+        param v_knee = 0.9 in "V";
         /// load resistance
         param r_load = 1000.0 in "Ω";
         /// smoothing capacitor
@@ -108,7 +114,13 @@ bond_graph! {
         0 out;
         #[allow(algebraic_loops)]
         R series = r_source;
-        R diode { f = i_s * ((e / n_vt).exp() - 1.0) };
+        R diode {
+            f = if e < v_knee {
+                i_s * ((e / n_vt).exp() - 1.0)
+            } else {
+                i_s * ((v_knee / n_vt).exp() * (1.0 + (e - v_knee) / n_vt) - 1.0)
+            }
+        };
         R load = r_load;
         C cap = 1.0 / capacitance, q in "C";
         source -> supply -> branch -> out;
