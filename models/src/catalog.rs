@@ -8,6 +8,7 @@
 //! | `quick_return_rigid` | [`QuickReturnRigid`]: the same mechanism with rigid joints, the crank driven by a flow source; the same results file and figures |
 //! | `quick_return_rigid_coupled` | [`QuickReturnRigidCoupled`]: rigid joints, the crank driven through the compliant drive coupling |
 //! | `quick_return_friction` | [`QuickReturnFriction`]: the flagship with Coulomb friction and stiction in its slides; the same results file and figures, the friction's columns and charts, and a comparison with the run without friction |
+//! | `quick_return_end_stop` | [`QuickReturnEndStop`]: the flagship with an end stop on the output slider's guide; the same files, the stop's columns and charts, `events.csv`, and a comparison with the run without the stop |
 //! | `bouncing_ball` | [`BouncingBall`]: impacts with restitution, a rest mode |
 //! | `rectifier` | [`HalfWaveRectifier`]: an ideal diode switched by events |
 //! | `rectifier_exp` | [`HalfWaveRectifierExp`]: the same with an exponential-law diode |
@@ -133,7 +134,7 @@ use crate::hybrid::{
     BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
 };
 use crate::quick_return::QuickReturn;
-use crate::quick_return_hybrid::QuickReturnFriction;
+use crate::quick_return_hybrid::{QuickReturnEndStop, QuickReturnFriction};
 use crate::quick_return_rigid::{QuickReturnRigid, QuickReturnRigidCoupled};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
@@ -319,6 +320,15 @@ static WITHOUT_FRICTION: compare::Compare = compare::Compare {
     set: &[("mu", 0.0), ("mu_s", 0.0)],
 };
 
+/// The end stop variant's comparison: the same run with the stop beyond the stroke.
+static WITHOUT_STOP: compare::Compare = compare::Compare {
+    label: "without the stop",
+    set: &[("x_stop", 1.0)],
+};
+
+/// What the end stop variant records beside the spec's columns, and draws.
+const STOP_COLUMNS: &[&str] = &["F_stop", "gap", "resting"];
+
 /// What the friction variant records beside the spec's columns, and draws.
 const FRICTION_COLUMNS: &[&str] = &[
     "Ff_3C", "N_3C", "u_3C", "mode_3C", "Ff_5C", "N_5C", "u_5C", "mode_5C", "P_fric",
@@ -373,6 +383,18 @@ pub static MODELS: &[Entry] = &[
         solver: flagship_solver,
         extra: FRICTION_COLUMNS,
         compare: Some(&WITHOUT_FRICTION),
+    },
+    Entry {
+        name: "quick_return_end_stop",
+        description: "the quick return mechanism with an end stop on the output slider's guide \
+                      inside its stroke: impacts with restitution, a rest mode",
+        model: &Adapter::<QuickReturnEndStop>(PhantomData),
+        results: ResultsKind::QuickReturn,
+        t_end: 5.0,
+        interval: 1e-3,
+        solver: flagship_solver,
+        extra: STOP_COLUMNS,
+        compare: Some(&WITHOUT_STOP),
     },
     Entry {
         name: "bouncing_ball",
@@ -584,7 +606,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown model `crank`; the models are: quick_return, quick_return_rigid, \
-             quick_return_rigid_coupled, quick_return_friction, bouncing_ball, rectifier, \
+             quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, bouncing_ball, rectifier, \
              rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
         );
     }

@@ -30,7 +30,12 @@ fn the_reference_closes_its_energy_and_reaches_the_textbook_limit_cycle() {
     let phases: Vec<Phase> = segments.iter().take(4).map(|s| s.phase).collect();
     assert_eq!(
         phases,
-        [Phase::SlipSlower, Phase::SlipFaster, Phase::Stick, Phase::SlipSlower]
+        [
+            Phase::SlipSlower,
+            Phase::SlipFaster,
+            Phase::Stick,
+            Phase::SlipSlower
+        ]
     );
     for s in &segments {
         let (x1, v1) = b.state(s.phase, s.x0, s.v0, s.t1 - s.t0);
@@ -220,7 +225,9 @@ fn the_energy_balance_closes_with_the_friction_loss() {
     let loss: f64 = reference.iter().map(|s| b.friction_loss(s)).sum();
     let work: f64 = reference.iter().map(|s| b.belt_work(s)).sum();
     let model = model();
-    let times: Vec<f64> = (0..=200_000).map(|k| k as f64 * T_END / 200_000.0).collect();
+    let times: Vec<f64> = (0..=200_000)
+        .map(|k| k as f64 * T_END / 200_000.0)
+        .collect();
     let mut x0 = vec![0.0; BeltFriction::N_STATES];
     model.initial_state(&mut x0);
     let mut account = Account {

@@ -34,6 +34,14 @@ fn list_names_every_model_on_one_line() {
             "quick_return",
             "quick_return_rigid",
             "quick_return_rigid_coupled",
+            "quick_return_friction",
+            "quick_return_end_stop",
+            "bouncing_ball",
+            "rectifier",
+            "rectifier_exp",
+            "stick_slip",
+            "end_stop",
+            "clutch",
             "oscillator",
             "rlc",
             "dc_motor",
@@ -87,7 +95,9 @@ fn params_shows_defaults_units_and_docs() {
     assert_eq!(
         unknown.stderr.trim(),
         "error: unknown model `crank`; the models are: quick_return, quick_return_rigid, \
-         quick_return_rigid_coupled, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
+         quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, \
+         bouncing_ball, rectifier, rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, \
+         dc_motor, quarter_car, duffing, dc_servo"
     );
 }
 

@@ -46,7 +46,10 @@ fn without_friction_it_is_the_flagship() {
     assert!(friction.events().is_empty(), "no friction, no events");
     let mut worst = (0.0f64, "");
     for name in &models::quick_return::results::COLUMNS[1..] {
-        let (a, b) = (flagship.column(name).unwrap(), friction.column(name).unwrap());
+        let (a, b) = (
+            flagship.column(name).unwrap(),
+            friction.column(name).unwrap(),
+        );
         let peak = a.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
         let diff = a
             .iter()
@@ -58,8 +61,16 @@ fn without_friction_it_is_the_flagship() {
             worst = (diff, name);
         }
     }
-    eprintln!("largest difference {:e} of the peak, in {}", worst.0, worst.1);
-    assert!(worst.0 < 3e-5, "{} differs by {:e} of its peak", worst.1, worst.0);
+    eprintln!(
+        "largest difference {:e} of the peak, in {}",
+        worst.0, worst.1
+    );
+    assert!(
+        worst.0 < 3e-5,
+        "{} differs by {:e} of its peak",
+        worst.1,
+        worst.0
+    );
 }
 
 /// The energy of the run from `t_a` on: the trapezoid rule on the samples for the
@@ -160,8 +171,14 @@ fn the_drive_power_goes_into_the_dampers_and_the_friction() {
         account.breakaways,
         residual / drive
     );
-    assert!(account.breakaways >= 2, "the slides stick and break away every turn");
-    assert!(released > 0.0, "a breakaway drops the stick spring's energy");
+    assert!(
+        account.breakaways >= 2,
+        "the slides stick and break away every turn"
+    );
+    assert!(
+        released > 0.0,
+        "a breakaway drops the stick spring's energy"
+    );
     assert!(
         residual.abs() < 1e-5 * drive,
         "drive {drive} J vs dissipated {} J + stored {stored} J",

@@ -110,7 +110,11 @@ where
     let other = match run_with::<M>(plan, compare) {
         Ok(other) => other,
         Err(why) => {
-            let _ = writeln!(s, "compared with  {} ({setting}): not run, {why}", compare.label);
+            let _ = writeln!(
+                s,
+                "compared with  {} ({setting}): not run, {why}",
+                compare.label
+            );
             return s;
         }
     };

@@ -168,7 +168,13 @@ mod tests {
             action: EventAction::Continue,
         });
         let mut out = Vec::new();
-        write_to(&mut out, &log, &[Some(-0.875), None], &["p", "v", "resting"]).unwrap();
+        write_to(
+            &mut out,
+            &log,
+            &[Some(-0.875), None],
+            &["p", "v", "resting"],
+        )
+        .unwrap();
         assert_eq!(
             String::from_utf8(out).unwrap(),
             "t,event,state,before,after,event_energy\n\

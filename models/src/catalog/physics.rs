@@ -5,14 +5,14 @@ use bgdsl_runtime::multibond::box_inertia;
 
 use super::Checks;
 use crate::dc_servo::DcServo;
-use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
-use crate::quick_return_rigid::{
-    try_quick_return_cycle, DrivenMechanism, Mechanism, QuickReturnRigid, QuickReturnRigidCoupled,
-};
 use crate::hybrid::{
     BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
 };
-use crate::quick_return_hybrid::QuickReturnFriction;
+use crate::quick_return::{assembly, QuickReturn, QuickReturnParams};
+use crate::quick_return_hybrid::{QuickReturnEndStop, QuickReturnFriction};
+use crate::quick_return_rigid::{
+    try_quick_return_cycle, DrivenMechanism, Mechanism, QuickReturnRigid, QuickReturnRigidCoupled,
+};
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 /// A model of the catalogue: made from its parameter struct, with physical checks of
@@ -390,12 +390,34 @@ impl Catalogued for QuickReturnFriction {
     }
 
     /// The flagship's checks, and the friction's: coefficients not negative, the
-    /// static one at least the kinetic one, a stuck slide's stiffness positive.
+    /// static one 0 (no stiction) or at least the kinetic one, a stuck slide's
+    /// stiffness positive.
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         QuickReturn::check_params(&p.flagship(), checks);
         checks.non_negative("mu", p.mu);
-        static_limit(checks, ("mu_s", p.mu_s), ("mu", p.mu));
+        // mu_s = 0 is kinetic friction alone (no stick mode).
+        if p.mu_s != 0.0 {
+            static_limit(checks, ("mu_s", p.mu_s), ("mu", p.mu));
+        }
         checks.positive("K_stick", p.K_stick);
+    }
+}
+
+impl Catalogued for QuickReturnEndStop {
+    fn from_params(params: Self::Params) -> Self {
+        QuickReturnEndStop::new(params)
+    }
+
+    fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
+        Some(DrivenMechanism::of(params))
+    }
+
+    /// The flagship's checks, and the stop's: restitution in [0, 1], a rest speed not
+    /// negative (`x_stop` anywhere: beyond the stroke the stop is never reached).
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        QuickReturn::check_params(&p.flagship(), checks);
+        unit_interval(checks, "restitution", p.restitution);
+        checks.non_negative("v_rest", p.v_rest);
     }
 }
 

@@ -503,7 +503,12 @@ where
         ));
     }
     if let Some(extra) = entry.compare {
-        summary.push_str(&super::compare::summary::<M>(entry, extra, plan, results.as_ref()));
+        summary.push_str(&super::compare::summary::<M>(
+            entry,
+            extra,
+            plan,
+            results.as_ref(),
+        ));
     }
     if table.is_some() && quick {
         summary.push_str(&format!(

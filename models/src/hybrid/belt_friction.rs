@@ -81,13 +81,14 @@ bond_graph! {
 
 bond_graph! {
     /// [`BeltFriction`] with a steep smooth friction law instead of modes and events:
-    /// `F = fc · tanh(slip / v_s)` (the slip `v_belt − v`) plus, for stiction, the
-    /// bump `(fs − fc) · (slip / v_s) · exp((1 − (slip / v_s)²) / 2)`, of height
-    /// `fs − fc` at `slip = ±v_s` (the force there is `tanh(1) fc + fs − fc`, a
-    /// breakaway peak near `fs`) and gone a few `v_s` beyond. A small velocity scale
-    /// `v_s` makes it close to the switched law and stiff (its slope at zero slip is
-    /// about `fs / v_s`, against the mass `m`): the model is for the stiff solver, and
-    /// for the benchmark of events against a smooth law.
+    /// `F = tanh(slip / v_s) · (fc + (fs − fc) · exp(−(slip / (100 v_s))²))` (the slip
+    /// `v_belt − v`): within a few `v_s` of zero slip the force rises to nearly `fs`
+    /// (the stiction: 0.1 % below it at 4 `v_s`), and it falls to `fc` over some 100
+    /// `v_s` beyond. A small velocity
+    /// scale `v_s` makes it close to the switched law (a "stuck" mass creeps at a slip
+    /// of the order of `v_s`) and stiff (its slope at zero slip is `fc / v_s`, against
+    /// the mass `m`): the model is for the stiff solver, and for the benchmark of
+    /// events against a smooth law.
     ///
     /// States: `mass.p` (momentum, kg·m/s), `spring.q` (position x, m).
     pub model BeltFrictionSmooth {
@@ -106,7 +107,7 @@ bond_graph! {
         /// initial position (the mass starts at rest)
         param x0 = -1.0 in "m";
         /// velocity scale of the smooth law
-        param v_s = 1.0e-4 in "m/s";
+        param v_s = 1.0e-6 in "m/s";
 
         Sf belt = v_belt;
         1 belt_v;
@@ -116,8 +117,8 @@ bond_graph! {
         1 v;
         0 rel;
         R law {
-            e = mu_k * m * g * (f / v_s).tanh()
-                + (mu_s - mu_k) * m * g * (f / v_s) * (0.5 * (1.0 - (f / v_s) * (f / v_s))).exp()
+            e = (f / v_s).tanh()
+                * (mu_k + (mu_s - mu_k) * (-(0.01 * f / v_s) * (0.01 * f / v_s)).exp()) * m * g
         };
         belt -> belt_v -> rel -> v;
         rel -> law;

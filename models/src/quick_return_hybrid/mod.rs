@@ -3,8 +3,10 @@
 //! output slider's guide ([`QuickReturnEndStop`]). Both write the spec's results file
 //! and the paper's figures like the flagship, plus their own columns.
 
+pub mod end_stop;
 pub mod friction;
 
+pub use end_stop::{QuickReturnEndStop, QuickReturnEndStopParams};
 pub use friction::{QuickReturnFriction, QuickReturnFrictionParams};
 
 use crate::quick_return::QuickReturnParams;
@@ -60,6 +62,23 @@ impl QuickReturnFrictionParams {
 }
 
 impl Mechanism for QuickReturnFrictionParams {
+    fn rigid_params(&self) -> RigidParams {
+        rigid_params_of!(self)
+    }
+
+    fn drive_speed(&self) -> f64 {
+        self.w_drive
+    }
+}
+
+impl QuickReturnEndStopParams {
+    /// The flagship's parameters: these without the stop's.
+    pub fn flagship(&self) -> QuickReturnParams {
+        flagship_params!(self)
+    }
+}
+
+impl Mechanism for QuickReturnEndStopParams {
     fn rigid_params(&self) -> RigidParams {
         rigid_params_of!(self)
     }
