@@ -33,6 +33,15 @@
 //! other model code) is refused with a message that lists the GUIDs this library
 //! serves. The FMI functions are the `extern "C"` items of [`fmi2`]; see
 //! [`bgdsl_fmi_core`] for the variables, value references and state machine.
+//!
+//! # Hybrid models
+//!
+//! The catalogue's hybrid models (the bouncing ball, the rectifiers, the stick-slip
+//! belt, the end stop, the clutch, the quick return with friction) have events and
+//! modes: their FMUs declare event indicators for Model Exchange and handle the events
+//! inside each Co-Simulation step (see [`bgdsl_fmi_core`], "Events and modes");
+//! `tests/fmpy_events.rs` runs the ball and the ideal rectifier in FMPy against the
+//! closed forms.
 #![warn(missing_docs)]
 
 use std::path::{Path, PathBuf};
@@ -40,7 +49,11 @@ use std::path::{Path, PathBuf};
 use bgdsl_fmi_core::{ModelDescription, ModelEntry};
 use models::catalog::{Catalogued, Checks};
 use models::dc_servo::DcServo;
+use models::hybrid::{
+    BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
+};
 use models::quick_return::QuickReturn;
+use models::quick_return_hybrid::QuickReturnFriction;
 use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 pub use bgdsl_fmi_core::{find_library, library_file_name, FmuError};
@@ -56,6 +69,14 @@ pub static MODELS: &[ModelEntry] = &[
     entry::<QuarterCar>("quarter_car"),
     entry::<Duffing>("duffing"),
     entry::<DcServo>("dc_servo"),
+    // With events and modes.
+    entry::<BouncingBall>("bouncing_ball"),
+    entry::<HalfWaveRectifier>("rectifier"),
+    entry::<HalfWaveRectifierExp>("rectifier_exp"),
+    entry::<BeltFriction>("stick_slip"),
+    entry::<EndStop>("end_stop"),
+    entry::<ClutchEngagement>("clutch"),
+    entry::<QuickReturnFriction>("quick_return_friction"),
 ];
 
 const fn entry<M: Catalogued>(identifier: &'static str) -> ModelEntry {

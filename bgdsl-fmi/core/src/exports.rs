@@ -407,7 +407,7 @@ macro_rules! export_fmi2 {
                 }
             }
 
-            /// `fmi2GetEventIndicators` (Model Exchange): there are none.
+            /// `fmi2GetEventIndicators` (Model Exchange).
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetEventIndicators(
                 c: Component,
@@ -416,9 +416,13 @@ macro_rules! export_fmi2 {
             ) -> Status {
                 // SAFETY: forwarded under the standard's contract, which `ffi` states.
                 unsafe {
-                    ffi::get_array(c, Call::GetEventIndicators, event_indicators, ni, |i, z| {
-                        i.get_event_indicators(z)
-                    })
+                    ffi::get_array(
+                        c,
+                        Call::GetEventIndicators,
+                        event_indicators,
+                        ni,
+                        Instance::get_event_indicators,
+                    )
                 }
             }
 

@@ -173,8 +173,9 @@ pub struct EventInfo {
 }
 
 impl EventInfo {
-    /// "Nothing happens": no discrete states, no time events, nothing changed. The
-    /// models are continuous, so this is every answer.
+    /// "Nothing happens": no new discrete states needed, no time events, nothing
+    /// changed, no termination: the answer of an event iteration in which no event
+    /// fired (the models have no time events).
     pub const QUIET: EventInfo = EventInfo {
         new_discrete_states_needed: FALSE,
         terminate_simulation: FALSE,

@@ -7,12 +7,34 @@
 //! ([`CallError::Failed`]: the instance goes to [`Phase::Error`]). A Co-Simulation step
 //! whose solver fails is reported as `fmi2Discard` and leaves the instance at the start
 //! of the step, in [`Phase::StepFailed`].
+//!
+//! # Events
+//!
+//! Model Exchange: the importer integrates and watches the event indicators
+//! (`fmi2GetEventIndicators`, one per [`Model::EVENTS`](bgdsl_runtime::Model::EVENTS))
+//! for a change of sign, locates it and enters Event Mode. `fmi2NewDiscreteStates` then
+//! compares each indicator with its value at the *reference point*, the last point the
+//! FMU accepted (initialisation's end, the last `fmi2NewDiscreteStates`, the last
+//! `fmi2CompletedIntegratorStep` that found no crossing), and applies the action of every
+//! event whose indicator crossed in its direction ([`Direction::fires`], the runtime's
+//! rule), in index order. An importer's event in the other direction (FMI indicators have
+//! none) changes nothing but the reference. The discrete modes are the FMU's: the
+//! importer integrates the continuous states only ([`crate::variables`]).
+//!
+//! Co-Simulation: the model's own [`Stepper`](bgdsl_runtime::Stepper) locates and
+//! handles the events inside each `fmi2DoStep`; a `stop` action ends the step at the
+//! event with `fmi2Discard` and `fmi2Terminated` true, as the standard has a slave end
+//! a run early.
+
+#[cfg(doc)]
+use bgdsl_runtime::Direction;
+use bgdsl_runtime::EventAction;
 
 use crate::description::ModelDescription;
-use crate::fmi2::{EventInfo, FmuKind, Status, StatusKind, ValueReference};
+use crate::fmi2::{EventInfo, FmuKind, Status, StatusKind, ValueReference, FALSE, TRUE};
 use crate::logger::{Category, Logger};
 use crate::machine::{Call, Phase};
-use crate::model::{FmuModel, Sizes};
+use crate::model::{FmuModel, Sizes, Stopped};
 use crate::variables::{role_of, Role};
 
 /// Why a call did not succeed. The message says what was wrong and what was expected;
@@ -72,6 +94,14 @@ pub struct Instance {
     u: Vec<f64>,
     /// Co-Simulation: what the last `fmi2DoStep` returned.
     last_step: Status,
+    /// The event indicators at the current time and state, as last evaluated.
+    g: Vec<f64>,
+    /// Model Exchange: the event indicators at the reference point a crossing is
+    /// measured from (see the module's documentation).
+    g_reference: Vec<f64>,
+    /// The event whose `stop` action ended the run, and when: Model Exchange's
+    /// `terminateSimulation`, Co-Simulation's `fmi2Terminated`.
+    stopped: Option<(&'static str, f64)>,
 }
 
 impl core::fmt::Debug for Instance {
@@ -114,6 +144,9 @@ impl Instance {
             p: vec![0.0; sizes.parameters],
             u: vec![0.0; sizes.inputs],
             last_step: Status::Ok,
+            g: vec![0.0; sizes.events],
+            g_reference: vec![0.0; sizes.events],
+            stopped: None,
         }
     }
 
@@ -256,7 +289,12 @@ impl Instance {
             return refuse(message);
         }
         match self.kind {
-            FmuKind::ModelExchange => self.phase = Phase::EventMode,
+            FmuKind::ModelExchange => {
+                // No event at the start: the indicators there are the first reference.
+                self.evaluate_indicators()?;
+                self.g_reference.copy_from_slice(&self.g);
+                self.phase = Phase::EventMode;
+            }
             FmuKind::CoSimulation => {
                 self.model
                     .start_stepping(self.time, &self.x, self.tolerance)
@@ -284,6 +322,7 @@ impl Instance {
         self.stop_time = None;
         self.tolerance = None;
         self.last_step = Status::Ok;
+        self.stopped = None;
         Ok(Status::Ok)
     }
 
@@ -424,22 +463,88 @@ impl Instance {
         Ok(Status::Ok)
     }
 
-    /// `fmi2NewDiscreteStates`: the models have no discrete states and no events.
+    /// `fmi2NewDiscreteStates`: applies the action of every event whose indicator
+    /// crossed zero in its direction since the reference point, in index order, each
+    /// to the state the previous one left; the indicators at the state after become the
+    /// reference. `eventInfo` says whether the continuous states changed (the importer
+    /// then reads them) and whether a `stop` action asks the importer to end the run.
+    /// One call settles it: no event fires from the state after an event (the runtime's
+    /// rule), so `newDiscreteStatesNeeded` is false.
     pub fn new_discrete_states(&mut self, info: &mut EventInfo) -> CallResult {
-        *info = EventInfo::QUIET;
+        self.evaluate_indicators()?;
+        let events = self.model.events();
+        let mut x = self.x.clone();
+        let mut stop = None;
+        for (i, event) in events.iter().enumerate() {
+            if !event.direction.fires(self.g_reference[i], self.g[i]) {
+                continue;
+            }
+            let before = self.logger.wants(Category::Events).then(|| x.clone());
+            let action = self.model.apply_event(i, self.time, &mut x);
+            if action == EventAction::Stop {
+                stop = Some((event.name, self.time));
+            }
+            if let Some(before) = before {
+                self.log_event(event.name, self.time, &before, &x, action);
+            }
+        }
+        if let Some(k) = x.iter().position(|v| !v.is_finite()) {
+            return Err(CallError::Failed(format!(
+                "after the events at t = {}, {} = {} is not finite",
+                self.time,
+                self.variable_name(Role::State(k)),
+                x[k]
+            )));
+        }
+        let n = self.sizes.continuous();
+        let changed = x[..n]
+            .iter()
+            .zip(&self.x[..n])
+            .any(|(a, b)| a.to_bits() != b.to_bits());
+        self.x = x;
+        if let Err(error) = self.evaluate_indicators() {
+            return Err(CallError::Failed(error.message().to_string()));
+        }
+        self.g_reference.copy_from_slice(&self.g);
+        self.stopped = self.stopped.or(stop);
+        *info = EventInfo {
+            terminate_simulation: if self.stopped.is_some() { TRUE } else { FALSE },
+            values_of_continuous_states_changed: if changed { TRUE } else { FALSE },
+            ..EventInfo::QUIET
+        };
         Ok(Status::Ok)
     }
 
-    /// `fmi2EnterContinuousTimeMode`.
+    /// `fmi2EnterContinuousTimeMode`; refused once an event's `stop` action asked to end
+    /// the run (`terminateSimulation`: the importer calls `fmi2Terminate`).
     pub fn enter_continuous_time_mode(&mut self) -> CallResult {
+        if let Some((event, t)) = self.stopped {
+            return refuse(format!(
+                "the event {event} stopped {} at t = {t} (terminateSimulation): call \
+                 fmi2Terminate",
+                self.description.model_name
+            ));
+        }
         self.phase = Phase::ContinuousTimeMode;
         Ok(Status::Ok)
     }
 
-    /// `fmi2CompletedIntegratorStep`: never asks for an event or for termination;
-    /// returns `(enterEventMode, terminateSimulation)`.
+    /// `fmi2CompletedIntegratorStep`: the step's end becomes the reference point, unless
+    /// an indicator crossed in its event's direction since the last one (an importer
+    /// that does not locate events): then the FMU asks for Event Mode
+    /// (`enterEventMode`) and keeps the reference, so that `fmi2NewDiscreteStates`
+    /// handles the event there. Returns `(enterEventMode, terminateSimulation)`.
     pub fn completed_integrator_step(&mut self) -> Result<(bool, bool), CallError> {
-        Ok((false, false))
+        self.evaluate_indicators()?;
+        let events = self.model.events();
+        let pending = events
+            .iter()
+            .enumerate()
+            .any(|(i, e)| e.direction.fires(self.g_reference[i], self.g[i]));
+        if !pending {
+            self.g_reference.copy_from_slice(&self.g);
+        }
+        Ok((pending, self.stopped.is_some()))
     }
 
     /// `fmi2SetTime`.
@@ -451,10 +556,11 @@ impl Instance {
         Ok(Status::Ok)
     }
 
-    /// `fmi2SetContinuousStates`.
+    /// `fmi2SetContinuousStates`: the continuous states (the modes are the FMU's,
+    /// changed at events only).
     pub fn set_continuous_states(&mut self, x: &[f64]) -> CallResult {
         self.check_state_count("nx", x.len())?;
-        self.x.copy_from_slice(x);
+        self.x[..x.len()].copy_from_slice(x);
         Ok(Status::Ok)
     }
 
@@ -466,7 +572,7 @@ impl Instance {
         self.refresh_state();
         self.model.derivatives(self.time, &self.x, &mut self.dx);
         self.evaluated(&self.dx, "derivatives")?;
-        dx.copy_from_slice(&self.dx);
+        dx.copy_from_slice(&self.dx[..dx.len()]);
         Ok(Status::Ok)
     }
 
@@ -488,28 +594,69 @@ impl Instance {
         }
     }
 
-    /// `fmi2GetEventIndicators`: there are none.
-    pub fn get_event_indicators(&mut self, z: &[f64]) -> CallResult {
-        if !z.is_empty() {
+    /// `fmi2GetEventIndicators`: g of every event at the current time and state
+    /// ([`FmuModel::event_indicators`]); refused (nothing written) when the model cannot
+    /// evaluate them there and says why.
+    pub fn get_event_indicators(&mut self, z: &mut [f64]) -> CallResult {
+        if z.len() != self.sizes.events {
             return refuse(format!(
-                "ni = {}, but {} has no event indicators (numberOfEventIndicators = 0)",
+                "ni = {}, but {} has {} event indicators (numberOfEventIndicators)",
                 z.len(),
-                self.description.model_name
+                self.description.model_name,
+                self.sizes.events
             ));
         }
+        self.evaluate_indicators()?;
+        z.copy_from_slice(&self.g);
         Ok(Status::Ok)
+    }
+
+    /// Evaluates the event indicators at the current time and state into `self.g`.
+    fn evaluate_indicators(&mut self) -> Result<(), CallError> {
+        if self.g.is_empty() {
+            return Ok(());
+        }
+        self.refresh_state();
+        self.model.event_indicators(self.time, &self.x, &mut self.g);
+        self.evaluated(&self.g, "event indicators")
+    }
+
+    /// Logs an event the FMU handled, in category `logEvents`.
+    fn log_event(&self, name: &str, t: f64, before: &[f64], after: &[f64], action: EventAction) {
+        let changes: Vec<String> = before
+            .iter()
+            .zip(after)
+            .enumerate()
+            .filter(|(_, (a, b))| a.to_bits() != b.to_bits())
+            .map(|(k, (a, b))| format!("{} {a} -> {b}", self.variable_name(Role::State(k))))
+            .collect();
+        let what = if changes.is_empty() {
+            "no state changed".to_string()
+        } else {
+            changes.join(", ")
+        };
+        let stop = if action == EventAction::Stop {
+            "; stop"
+        } else {
+            ""
+        };
+        self.logger.log_in(
+            Category::Events,
+            Status::Ok,
+            &format!("event {name} at t = {t}: {what}{stop}"),
+        );
     }
 
     /// `fmi2GetContinuousStates`.
     pub fn get_continuous_states(&mut self, x: &mut [f64]) -> CallResult {
         self.check_state_count("nx", x.len())?;
         self.refresh_state();
-        x.copy_from_slice(&self.x);
+        x.copy_from_slice(&self.x[..x.len()]);
         Ok(Status::Ok)
     }
 
-    /// `fmi2GetNominalsOfContinuousStates`: 1 for every state (the models declare no
-    /// scales).
+    /// `fmi2GetNominalsOfContinuousStates`: 1 for every continuous state (the models
+    /// declare no scales).
     pub fn get_nominals_of_continuous_states(&mut self, nominals: &mut [f64]) -> CallResult {
         self.check_state_count("nx", nominals.len())?;
         nominals.fill(1.0);
@@ -547,11 +694,42 @@ impl Instance {
             self.last_step = Status::Ok;
             return Ok(Status::Ok);
         }
-        match self.model.advance_to(end, &mut self.x) {
-            Ok(()) => {
+        let outcome = self.model.advance_to(end, &mut self.x);
+        if self.logger.wants(Category::Events) {
+            let more = self.model.step_events(&mut |e| {
+                self.log_event(e.name, e.t, e.before, e.after, e.action);
+            });
+            if more > 0 {
+                self.logger.log_in(
+                    Category::Events,
+                    Status::Ok,
+                    &format!("and {more} more events in the step from t = {t} to t = {end}"),
+                );
+            }
+        }
+        match outcome {
+            Ok(None) => {
                 self.time = end;
                 self.last_step = Status::Ok;
                 Ok(Status::Ok)
+            }
+            Ok(Some(Stopped { event, t: at })) => {
+                // The standard's way for a slave to end the run inside a step.
+                self.time = at;
+                self.stopped = Some((event, at));
+                self.phase = Phase::StepFailed;
+                self.last_step = Status::Discard;
+                self.log(
+                    Status::Discard,
+                    &format!(
+                        "fmi2DoStep: the event {event} stopped {} at t = {at}, inside the step \
+                         from t = {t} to t = {end}: fmi2GetBooleanStatus(fmi2Terminated) is \
+                         true, fmi2GetRealStatus(fmi2LastSuccessfulTime) is {at}, and the \
+                         state is the one after the event; call fmi2Terminate",
+                        self.description.model_name
+                    ),
+                );
+                Ok(Status::Discard)
             }
             Err(reason) => {
                 self.phase = Phase::StepFailed;
@@ -585,10 +763,11 @@ impl Instance {
         }
     }
 
-    /// `fmi2GetBooleanStatus`: only `fmi2Terminated` (the FMU never asks to stop).
+    /// `fmi2GetBooleanStatus`: only `fmi2Terminated`, true once an event's `stop`
+    /// action ended the run inside a step (which returned `fmi2Discard`).
     pub fn get_boolean_status(&self, kind: StatusKind) -> Result<bool, CallError> {
         match kind {
-            StatusKind::Terminated => Ok(false),
+            StatusKind::Terminated => Ok(self.stopped.is_some()),
             other => self.status_not_available(other, "fmi2GetBooleanStatus"),
         }
     }
@@ -646,10 +825,15 @@ impl Instance {
     }
 
     fn check_state_count(&self, what: &str, n: usize) -> Result<(), CallError> {
-        if n != self.sizes.states {
+        if n != self.sizes.continuous() {
+            let modes = match self.sizes.modes {
+                0 => String::new(),
+                m => format!(" (and {m} discrete modes, which the FMU keeps)"),
+            };
             return refuse(format!(
-                "{what} = {n}, but {} has {} continuous states",
-                self.description.model_name, self.sizes.states
+                "{what} = {n}, but {} has {} continuous states{modes}",
+                self.description.model_name,
+                self.sizes.continuous()
             ));
         }
         Ok(())

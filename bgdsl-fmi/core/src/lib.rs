@@ -48,6 +48,18 @@
 //! The host sets parameters, inputs and, before initialisation ends, the initial
 //! states (`initial="exact"`; see [`variables`]).
 //!
+//! # Events and modes
+//!
+//! A model's events ([`Model::EVENTS`](bgdsl_runtime::Model::EVENTS)) are the FMU's
+//! event indicators (`numberOfEventIndicators`), in Model Exchange: the importer
+//! locates their sign changes, and in Event Mode `fmi2NewDiscreteStates` applies the
+//! actions of those that crossed in their direction (a `stop` action sets
+//! `terminateSimulation`). Its discrete modes are discrete variables the FMU keeps, not
+//! continuous states: `nx` counts the continuous states only. In Co-Simulation the
+//! model's own solver handles the events inside each `fmi2DoStep`, and a `stop` ends
+//! the step early with `fmi2Discard` and `fmi2Terminated`. See [`instance`] and
+//! [`variables`].
+//!
 //! # Your own model as an FMU
 //!
 //! A crate that builds as a `cdylib`, lists its models in a `static` registry of
@@ -76,7 +88,7 @@ pub use fmi2::Status;
 pub use instance::{CallError, Instance};
 pub use library::{check_serves, find_library, find_library_named, library_file_name, LIBRARY_ENV};
 pub use machine::{Call, Phase};
-pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes};
+pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes, Stopped};
 pub use package::{fmu_bytes, platform_folder, write_fmu, FmuError};
 pub use registry::ModelEntry;
 pub use variables::{Role, Variable, Variables};

@@ -23,16 +23,20 @@ pub enum Category {
     Fatal,
     /// Every call, with its arguments (only when switched on).
     Calls,
+    /// Every event the FMU handles: its name, time, and the state before and after
+    /// (only when switched on).
+    Events,
 }
 
 impl Category {
     /// Every category, in the order `modelDescription.xml` lists them.
-    pub const ALL: [Category; 5] = [
+    pub const ALL: [Category; 6] = [
         Category::Warning,
         Category::Discard,
         Category::Error,
         Category::Fatal,
         Category::Calls,
+        Category::Events,
     ];
 
     /// The category's name, as in `modelDescription.xml` and `fmi2SetDebugLogging`.
@@ -43,6 +47,7 @@ impl Category {
             Category::Error => "logStatusError",
             Category::Fatal => "logStatusFatal",
             Category::Calls => "logCalls",
+            Category::Events => "logEvents",
         }
     }
 
@@ -54,6 +59,9 @@ impl Category {
             Category::Error => "calls that return fmi2Error (always logged)",
             Category::Fatal => "calls that return fmi2Fatal (always logged)",
             Category::Calls => "every call to the FMU and its arguments",
+            Category::Events => {
+                "every event the FMU handles: its name, time, and the state before and after"
+            }
         }
     }
 
@@ -141,7 +149,7 @@ impl Logger {
         }
         match category {
             Category::Discard | Category::Error | Category::Fatal => true,
-            Category::Warning | Category::Calls => {
+            Category::Warning | Category::Calls | Category::Events => {
                 self.logging_on && self.enabled & category.bit() != 0
             }
         }
@@ -149,7 +157,12 @@ impl Logger {
 
     /// Sends `message` with `status` to the importer's logger, if it wants it.
     pub fn log(&self, status: Status, message: &str) {
-        let category = Category::for_status(status);
+        self.log_in(Category::for_status(status), status, message);
+    }
+
+    /// Sends `message` with `status` in `category` to the importer's logger, if it
+    /// wants that category.
+    pub fn log_in(&self, category: Category, status: Status, message: &str) {
         if !self.wants(category) {
             return;
         }

@@ -7,7 +7,9 @@
 //! instance checks against [`Sizes`] before every call, so the generated code's length
 //! assertions never fire.
 
-use bgdsl_runtime::{Model, Solver, Stepper, WithInputs};
+use bgdsl_runtime::{
+    EventAction, EventInfo, EventRecord, ModeInfo, Model, Solver, Stepper, WithInputs,
+};
 
 /// A model's rule for its parameters, applied to the whole flat parameter vector (in
 /// [`Model::parameter_values`] order) that an `fmi2SetReal` would leave: `Err` with a
@@ -30,8 +32,12 @@ impl<M: WithInputs + Default + 'static> Exportable for M {}
 /// How many numbers of each kind a model has.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Sizes {
-    /// States (and so state derivatives).
+    /// States, the discrete modes included (they are the last [`Sizes::modes`]).
     pub states: usize,
+    /// Discrete modes ([`Model::MODES`]): the last states, constant between events.
+    pub modes: usize,
+    /// Event indicators ([`Model::EVENTS`]).
+    pub events: usize,
     /// Outputs.
     pub outputs: usize,
     /// Parameter values, vectors and matrices flattened.
@@ -45,10 +51,18 @@ impl Sizes {
     pub fn of<M: WithInputs>() -> Self {
         Sizes {
             states: M::N_STATES,
+            modes: M::MODES.len(),
+            events: M::EVENTS.len(),
             outputs: M::N_OUTPUTS,
             parameters: M::N_PARAMETER_VALUES,
             inputs: M::INPUTS.len(),
         }
+    }
+
+    /// The continuous states, the states less the modes: what a Model Exchange
+    /// importer integrates (and the state derivatives the FMU declares).
+    pub fn continuous(&self) -> usize {
+        self.states - self.modes
     }
 }
 
@@ -90,6 +104,17 @@ pub trait FmuModel {
     ///
     /// The check's message, naming the element, the time and the residual.
     fn check_state(&self, t: f64, x: &[f64]) -> Result<(), String>;
+    /// The model's events ([`Model::EVENTS`]), in the order simultaneous ones are
+    /// handled.
+    fn events(&self) -> &'static [EventInfo];
+    /// The model's discrete modes ([`Model::MODES`]): the last states.
+    fn modes(&self) -> &'static [ModeInfo];
+    /// Writes the event indicators g at `(t, x)` into `g`
+    /// ([`Model::event_indicators`]).
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]);
+    /// Applies event `index`'s action to `x`, the state just before the event,
+    /// rewritten to the state after ([`Model::apply_event`]).
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction;
     /// Writes the inputs into `out`.
     fn input_values(&self, out: &mut [f64]);
     /// Sets the inputs from `values`.
@@ -103,16 +128,31 @@ pub trait FmuModel {
     /// The solver cannot be set up (an invalid tolerance) or `x0` is not finite.
     fn start_stepping(&mut self, t0: f64, x0: &[f64], tolerance: Option<f64>)
         -> Result<(), String>;
-    /// Integrates from where the last step ended to time `t` with the inputs held, and
-    /// writes the state there into `x`. Before [`FmuModel::start_stepping`] this is an
-    /// error.
+    /// Integrates from where the last step ended to time `t` with the inputs held,
+    /// handling the events on the way, and writes the state there into `x`; or, when an
+    /// event's `stop` action ends the run before `t`, the state after that event, and
+    /// returns which event stopped it when. Before [`FmuModel::start_stepping`] this
+    /// is an error.
     ///
     /// # Errors
     ///
     /// The solver failed; the integration then stays where it was.
-    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<(), String>;
+    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<Option<Stopped>, String>;
+    /// Shows `visit` each event the last [`FmuModel::advance_to`] handled, in time
+    /// order (those the stepper's log had room for: 64 per step), and returns how many
+    /// more it handled.
+    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>)) -> usize;
     /// Back to the model as first made: default parameters and inputs, no integration.
     fn reset(&mut self);
+}
+
+/// An event whose `stop` action ended a Co-Simulation step early.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stopped {
+    /// The event's name ([`EventInfo::name`]).
+    pub event: &'static str,
+    /// When: where the step ended.
+    pub t: f64,
 }
 
 /// A generated model and, once Co-Simulation starts, the [`Stepper`] that owns it.
@@ -232,6 +272,22 @@ impl<M: Exportable> FmuModel for Adapter<M> {
         self.model().check(t, x).map_err(|error| error.to_string())
     }
 
+    fn events(&self) -> &'static [EventInfo] {
+        M::EVENTS
+    }
+
+    fn modes(&self) -> &'static [ModeInfo] {
+        M::MODES
+    }
+
+    fn event_indicators(&self, t: f64, x: &[f64], g: &mut [f64]) {
+        self.model().event_indicators(t, x, g);
+    }
+
+    fn apply_event(&self, index: usize, t: f64, x: &mut [f64]) -> EventAction {
+        self.model().apply_event(index, t, x)
+    }
+
     fn input_values(&self, out: &mut [f64]) {
         self.model().input_values(out);
     }
@@ -279,15 +335,39 @@ impl<M: Exportable> FmuModel for Adapter<M> {
         Ok(())
     }
 
-    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<(), String> {
+    fn advance_to(&mut self, t: f64, x: &mut [f64]) -> Result<Option<Stopped>, String> {
         match &mut self.holder {
             Holder::Model(_) => Err("the integration has not been started".to_string()),
             Holder::Stepping(stepper) => {
                 stepper.advance_to(t).map_err(|e| e.to_string())?;
                 x.copy_from_slice(stepper.state());
-                Ok(())
+                // A stop action ends the advance at its event: before `t`, or at `t`
+                // exactly.
+                let stop = stepper
+                    .events()
+                    .iter()
+                    .filter(|e| e.action == EventAction::Stop)
+                    .last()
+                    .map(|e| e.name);
+                if stop.is_none() && stepper.time() >= t {
+                    return Ok(None);
+                }
+                Ok(Some(Stopped {
+                    event: stop.unwrap_or("(past the events the step's log keeps)"),
+                    t: stepper.time(),
+                }))
             }
         }
+    }
+
+    fn step_events(&self, visit: &mut dyn FnMut(&EventRecord<'_>)) -> usize {
+        let Holder::Stepping(stepper) = &self.holder else {
+            return 0;
+        };
+        for event in stepper.events().iter() {
+            visit(&event);
+        }
+        stepper.events().dropped()
     }
 
     fn reset(&mut self) {

@@ -1,6 +1,6 @@
 //! The FMU's variables and their value references.
 //!
-//! Every variable is an FMI `Real`. They are numbered in five consecutive blocks, and a
+//! Every variable is an FMI `Real`. They are numbered in consecutive blocks, and a
 //! variable's value reference is its position in that list, counted from 0 (so its
 //! `ScalarVariable` index in `modelDescription.xml`, counted from 1, is its value
 //! reference plus one):
@@ -8,7 +8,8 @@
 //! | block | name | causality | variability |
 //! |---|---|---|---|
 //! | states | `spring.q` | `local` (initial `exact`, settable before initialisation ends) | `continuous` |
-//! | state derivatives | `der(spring.q)` | `local` | `continuous` |
+//! | modes, the last states | `stuck` | `local` (initial `exact`, settable before initialisation ends) | `discrete` |
+//! | state derivatives (not of the modes) | `der(spring.q)` | `local` | `continuous` |
 //! | outputs | `x` | `output` | `continuous` |
 //! | parameters, flattened | `k`, `l1[1]`, `l1[2]`, `l1[3]` | `parameter` | `tunable` |
 //! | inputs | `torque` | `input` (with a start value) | `continuous` |
@@ -16,6 +17,15 @@
 //! Every variable carries the unit and description the model declares
 //! ([`Model::STATES`](bgdsl_runtime::Model::STATES), `OUTPUTS`, `PARAMETERS`, `INPUTS`);
 //! a state derivative's unit is its state's per second (`m/s` for `m`).
+//!
+//! A discrete mode ([`Model::MODES`](bgdsl_runtime::Model::MODES)) is a state of the
+//! model whose derivative is exactly 0; the FMU declares it as the discrete variable it
+//! is (`variability="discrete"`, no derivative), keeps it, and changes it only in an
+//! event's action. So Model Exchange's continuous states, the `nx` of
+//! `fmi2GetContinuousStates` and `fmi2GetDerivatives`, are the states less the modes:
+//! the importer never integrates a mode, and its integrator's finite-difference
+//! Jacobian never perturbs one (a bool mode nudged from 0 would read as true). A mode is
+//! a `Real` like every variable: 0 or 1 for a bool, an integer value for an `i64`.
 //!
 //! A state's start value is the model's initial state at the default parameters. An
 //! importer may set it (`fmi2SetReal` in Instantiated or Initialization Mode, as
@@ -116,17 +126,22 @@ impl Variables {
         let described = |infos: &'static [bgdsl_runtime::SignalInfo], i: usize| {
             infos.get(i).map_or(("", ""), |info| (info.unit, info.doc))
         };
+        let continuous = sizes.continuous();
         for (i, name) in M::STATE_NAMES.iter().enumerate() {
             let (unit, doc) = described(M::STATES, i);
+            let doc = match i.checked_sub(continuous).and_then(|m| M::MODES.get(m)) {
+                Some(mode) => mode_description(mode),
+                None => doc.to_string(),
+            };
             push(
                 name.to_string(),
                 Role::State(i),
                 unit.to_string(),
-                doc,
+                &doc,
                 Some(state_starts[i]),
             );
         }
-        for (i, name) in M::STATE_NAMES.iter().enumerate() {
+        for (i, name) in M::STATE_NAMES.iter().enumerate().take(continuous) {
             let (unit, _) = described(M::STATES, i);
             let unit = if unit.is_empty() {
                 String::new()
@@ -224,9 +239,9 @@ impl Variables {
         let position = match role {
             Role::State(i) => i,
             Role::Derivative(i) => s.states + i,
-            Role::Output(i) => 2 * s.states + i,
-            Role::Parameter(i) => 2 * s.states + s.outputs + i,
-            Role::Input(i) => 2 * s.states + s.outputs + s.parameters + i,
+            Role::Output(i) => s.states + s.continuous() + i,
+            Role::Parameter(i) => s.states + s.continuous() + s.outputs + i,
+            Role::Input(i) => s.states + s.continuous() + s.outputs + s.parameters + i,
         };
         position as ValueReference
     }
@@ -238,7 +253,7 @@ impl Variables {
 pub fn role_of(sizes: Sizes, vr: ValueReference) -> Option<Role> {
     let at = usize::try_from(vr).ok()?;
     let derivatives = sizes.states;
-    let outputs = derivatives + sizes.states;
+    let outputs = derivatives + sizes.continuous();
     let parameters = outputs + sizes.outputs;
     let inputs = parameters + sizes.parameters;
     let end = inputs + sizes.inputs;
@@ -255,6 +270,21 @@ pub fn role_of(sizes: Sizes, vr: ValueReference) -> Option<Role> {
     } else {
         return None;
     })
+}
+
+/// A mode's description: its doc comment and what its value means.
+fn mode_description(mode: &bgdsl_runtime::ModeInfo) -> String {
+    let kind = match mode.kind {
+        bgdsl_runtime::ModeKind::Bool => "discrete mode, bool: 0 false, 1 true",
+        bgdsl_runtime::ModeKind::Integer => "discrete mode, an integer",
+        bgdsl_runtime::ModeKind::Real => "discrete mode",
+    };
+    let doc = mode.doc.trim();
+    if doc.is_empty() {
+        format!("({kind})")
+    } else {
+        format!("{doc} ({kind})")
+    }
 }
 
 /// Gives a name that an earlier variable already has a suffix `_2`, `_3`, ... (the
@@ -320,6 +350,7 @@ mod should {
             outputs: 3,
             parameters: 4,
             inputs: 1,
+            ..Sizes::default()
         };
         let roles: Vec<_> = (0..12).map(|vr| role_of(sizes, vr)).collect();
         assert_eq!(roles[0], Some(Role::State(0)));
@@ -330,6 +361,23 @@ mod should {
         assert_eq!(roles[11], Some(Role::Input(0)));
         assert_eq!(role_of(sizes, 12), None);
         assert_eq!(role_of(sizes, u32::MAX), None);
+    }
+
+    #[test]
+    fn give_no_derivative_to_a_mode() {
+        // Three states, the last a mode: derivatives of the first two only.
+        let sizes = Sizes {
+            states: 3,
+            modes: 1,
+            outputs: 1,
+            ..Sizes::default()
+        };
+        let roles: Vec<_> = (0..6).map(|vr| role_of(sizes, vr)).collect();
+        assert_eq!(roles[2], Some(Role::State(2)));
+        assert_eq!(roles[3], Some(Role::Derivative(0)));
+        assert_eq!(roles[4], Some(Role::Derivative(1)));
+        assert_eq!(roles[5], Some(Role::Output(0)));
+        assert_eq!(role_of(sizes, 6), None);
     }
 
     #[test]

@@ -25,13 +25,23 @@ pub fn model_description_xml(description: &ModelDescription, identifier: &str) -
     let tool = concat!("bgdsl-fmi-core ", env!("CARGO_PKG_VERSION"));
     attr(&mut x, 2, "generationTool", tool);
     attr(&mut x, 2, "variableNamingConvention", d.naming.as_str());
-    attr(&mut x, 2, "numberOfEventIndicators", "0");
+    let events = d.variables.sizes().events.to_string();
+    attr(&mut x, 2, "numberOfEventIndicators", &events);
     x.push_str(">\n");
 
     // Capabilities. Both interfaces are served by the same binary.
     x.push_str("  <ModelExchange\n");
     attr(&mut x, 4, "modelIdentifier", identifier);
-    attr(&mut x, 4, "completedIntegratorStepNotNeeded", "true");
+    // With events, the FMU needs fmi2CompletedIntegratorStep: each accepted step's end
+    // is the reference its indicators' crossings are measured from, as in the
+    // runtime (an indicator exactly 0 at the last event takes its sign from the
+    // next step's end).
+    let not_needed = if d.variables.sizes().events == 0 {
+        "true"
+    } else {
+        "false"
+    };
+    attr(&mut x, 4, "completedIntegratorStepNotNeeded", not_needed);
     common_capabilities(&mut x);
     x.push_str("  />\n");
     x.push_str("  <CoSimulation\n");
@@ -120,7 +130,9 @@ fn index(v: &Variable) -> u64 {
 }
 
 fn scalar_variable(x: &mut String, d: &ModelDescription, v: &Variable) {
+    let continuous = d.variables.sizes().continuous();
     let (causality, variability, initial) = match v.role {
+        Role::State(i) if i >= continuous => ("local", "discrete", Some("exact")),
         Role::State(_) => ("local", "continuous", Some("exact")),
         Role::Derivative(_) => ("local", "continuous", Some("calculated")),
         Role::Output(_) => ("output", "continuous", Some("calculated")),

@@ -242,6 +242,12 @@ fn an_input_is_described_with_its_start_value() {
     assert_eq!(force.role, Role::Input(0));
     assert_eq!(force.start, Some(1.5));
     let xml = model_description_xml(&description, "pushed");
+    // No events: no indicators, and fmi2CompletedIntegratorStep has nothing to do.
+    assert!(xml.contains("numberOfEventIndicators=\"0\""), "{xml}");
+    assert!(
+        xml.contains("completedIntegratorStepNotNeeded=\"true\""),
+        "{xml}"
+    );
     assert!(
         xml.contains("name=\"force\" valueReference=\"4\" description=\"the push\" causality=\"input\" variability=\"continuous\">\n      <Real unit=\"N\" start=\"1.5\"/>"),
         "{xml}"

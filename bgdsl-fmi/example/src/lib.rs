@@ -3,7 +3,7 @@
 //!
 //! Three things make an FMU of a model:
 //!
-//! 1. the model, written with `bond_graph!` ([`Room`]);
+//! 1. the model, written with `bond_graph!` ([`Room`]; [`Kettle`] has an event);
 //! 2. a shared library (this crate, built as a `cdylib`) that exports the FMI 2.0 C
 //!    interface for it: a registry of the models it serves ([`MODELS`]) and one
 //!    `export_fmi2!` invocation;
@@ -46,12 +46,46 @@ bond_graph! {
     }
 }
 
+bond_graph! {
+    /// A kettle: a heater warms the water, which loses heat through the kettle's
+    /// walls, and the kettle switches itself off at the boil, which ends the run (an
+    /// event whose action is `stop`: the FMU asks its importer to terminate there).
+    /// Efforts are temperatures above the room's (K), flows heat flows (W).
+    pub model Kettle {
+        /// heat capacity of the water (1.7 l)
+        param capacity = 7100.0 in "J/K";
+        /// thermal resistance from the water to the room
+        param walls = 0.5 in "K/W";
+        /// room temperature
+        param room = 20.0 in "degC";
+        /// boiling point
+        param boil = 100.0 in "degC";
+        /// the heater's power
+        input heating = 2000.0 in "W";
+
+        MSf heater = heating;
+        C water = 1.0 / capacity;
+        R wall = walls;
+        0 node;
+        heater -> node -> { water, wall };
+
+        /// the water's temperature
+        output temperature = room + water.e;
+
+        /// At the boil the kettle switches off: the run ends.
+        when water.e > boil - room { stop; }
+    }
+}
+
 /// The models this library serves, each with its `modelIdentifier` (the FMU's binary
 /// is `binaries/<platform>/<identifier>.so`). A library may serve several models;
 /// `fmi2Instantiate` picks one by the GUID in the FMU's `modelDescription.xml`.
-pub static MODELS: &[ModelEntry] = &[ModelEntry::new::<Room>("room")
-    // Refuse a value the model cannot run with when the host sets it.
-    .with_check(check_room)];
+pub static MODELS: &[ModelEntry] = &[
+    ModelEntry::new::<Room>("room")
+        // Refuse a value the model cannot run with when the host sets it.
+        .with_check(check_room),
+    ModelEntry::new::<Kettle>("kettle"),
+];
 
 bgdsl_fmi_core::export_fmi2!(MODELS);
 
