@@ -363,7 +363,11 @@ fn interior_points_find_every_switch_without_a_largest_step() {
     let mut missed_without = 0;
     for rtol in [1e-6, 1e-10] {
         let found = run(dopri(rtol), EventOptions::default().interior_points);
-        assert_eq!(found.len(), switches.len(), "rtol {rtol}: {found:?} vs {switches:?}");
+        assert_eq!(
+            found.len(),
+            switches.len(),
+            "rtol {rtol}: {found:?} vs {switches:?}"
+        );
         let late = found
             .iter()
             .zip(&switches)

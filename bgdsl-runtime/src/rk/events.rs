@@ -206,7 +206,9 @@ impl<const N: usize, const E: usize, const K: usize> Hybrid<N, E, K> {
             kernel.interpolate(s, out);
             Ok(())
         };
-        let found = self.events.check(model, t_a, *t, x, Some(&mut dense), stats)?;
+        let found = self
+            .events
+            .check(model, t_a, *t, x, Some(&mut dense), stats)?;
         let Some(t_b) = found else {
             return Ok(None);
         };

@@ -107,6 +107,9 @@ pub(crate) struct Events<S: EventStorage> {
     rate: S::State,
 }
 
+/// The state at any time of a step (its continuous extension).
+pub(crate) type StateAt<'a> = dyn FnMut(f64, &mut [f64]) -> Result<(), SolverError> + 'a;
+
 /// Evaluates the indicators of the events `info` at `(t, x)` into `values`, counting
 /// the evaluation, and fails if one is not finite (with the model's own error, if its
 /// evaluation failed).
@@ -305,7 +308,7 @@ impl<S: EventStorage> Events<S> {
         t_a: f64,
         t_b: f64,
         x: &[f64],
-        inside: Option<&mut dyn FnMut(f64, &mut [f64]) -> Result<(), SolverError>>,
+        inside: Option<&mut StateAt<'_>>,
         stats: &mut Stats,
     ) -> Result<Option<f64>, SolverError> {
         indicators(
