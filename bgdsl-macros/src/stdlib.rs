@@ -252,11 +252,14 @@ pub const TEXT: &str = r#"
     /// the force on `b` that keeps the slip at 0, which the model supplies (it is the
     /// constraint force: for a mass on a belt, minus the other forces on the mass plus
     /// its mass times the belt's acceleration). When the slip crosses 0 (events
-    /// `backward`, `ahead`, watched only while slipping) the contact sticks if `|held| <= fs`, and otherwise the
-    /// slip reverses; stuck, it breaks away when `held` leaves [-fs, fs] (events
-    /// `break_ahead`, `break_back`, watched only while stuck), slipping in the direction `held` pointed. A
-    /// stuck contact keeps the slip it had at the event (of the order of the event
-    /// time tolerance times the slip's acceleration). The user supplies `fs >= fc`,
+    /// `backward`, watched only while slipping forward, and `ahead`, only while
+    /// slipping backward) the contact sticks if `|held| <= fs`, and otherwise the slip
+    /// reverses; stuck, it breaks away when `held` leaves [-fs, fs] (events
+    /// `break_ahead`, `break_back`, watched only while stuck), slipping in the
+    /// direction `held` pointed. A stuck contact keeps the slip it had at the event
+    /// (of the order of the event time tolerance times the slip's acceleration), so
+    /// a slip that starts at a breakaway may cross 0 once just after it: in the
+    /// direction it breaks away to, which is not watched. The user supplies `fs >= fc`,
     /// `held`, and the modes at the start (`stuck0`, `forward0`). Element `law` (an
     /// R: its power is the friction loss, ≈ 0 while stuck).
     submodel StickSlip(a, b, fc, fs, held, stuck0 = false, forward0 = true) {
@@ -269,11 +272,11 @@ pub const TEXT: &str = r#"
         a -> rel -> b;
         rel -> law;
         /// The slip falls through 0.
-        when backward: (if stuck { 1.0 } else { law.f }) < 0.0 {
+        when backward: (if stuck || !forward { 1.0 } else { law.f }) < 0.0 {
             if held.abs() <= fs { stuck = true; } else { forward = false; }
         }
         /// The slip rises through 0.
-        when ahead: (if stuck { -1.0 } else { law.f }) > 0.0 {
+        when ahead: (if stuck || forward { -1.0 } else { law.f }) > 0.0 {
             if held.abs() <= fs { stuck = true; } else { forward = true; }
         }
         /// The force needed to stick exceeds fs.

@@ -152,6 +152,13 @@ fn stick_and_slip_intervals_match_the_event_driven_reference() {
         "phases {phases:?}"
     );
     assert!(phases.len() >= 10, "{} phases", phases.len());
+    // Every event changes the phase: the slip's crossing just after a breakaway, in
+    // the direction it breaks away to, is not watched.
+    assert_eq!(
+        run.events().len(),
+        phases.len() - 1,
+        "events that change nothing"
+    );
     let worst = phases
         .iter()
         .zip(&expected)
