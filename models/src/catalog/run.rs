@@ -374,9 +374,10 @@ where
     if let Some(t) = table.as_mut() {
         recorders.push(t);
     }
-    // Room for the events up front: a few per sample interval is plenty for the
-    // catalogue's models (beyond it the log grows).
-    let mut collector = (!M::EVENTS.is_empty()).then(|| EventCollector::new::<M>(4 * n));
+    // The log grows as events come (a run here need not be allocation-free): room for
+    // four per sample interval up front would be 39 MB for the friction quick return's
+    // 121 states and 5001 samples, for the 36 events of its run.
+    let mut collector = (!M::EVENTS.is_empty()).then(|| EventCollector::new::<M>(64));
     if let Some(c) = collector.as_mut() {
         recorders.push(c);
     }
