@@ -11,6 +11,7 @@ use serde_yaml::Value;
 
 use super::run::{initial_state, params_from};
 use super::{Catalogued, Entry, RunPlan};
+use crate::plot::cumulative_trapezoid;
 use crate::quick_return::results::Results;
 use crate::quick_return::summary::Measured;
 
@@ -64,12 +65,13 @@ pub fn time_mean(results: &Results, name: &str, window: [f64; 2]) -> f64 {
     let t = results.times();
     let v = results.column(name).unwrap_or(&[]);
     let first = t.partition_point(|&t| t < window[0]);
-    let end = t.partition_point(|&t| t <= window[1]);
-    let mut integral = 0.0;
-    for k in first + 1..end {
-        integral += 0.5 * (t[k] - t[k - 1]) * (v[k] + v[k - 1]);
+    let end = t.partition_point(|&t| t <= window[1]).min(v.len());
+    if end <= first + 1 {
+        return f64::NAN;
     }
-    let span = t[end.saturating_sub(1).max(first)] - t[first.min(t.len().saturating_sub(1))];
+    let (t, v) = (&t[first..end], &v[first..end]);
+    let integral = cumulative_trapezoid(t, v).last().copied().unwrap_or(0.0);
+    let span = t[t.len() - 1] - t[0];
     if span > 0.0 {
         integral / span
     } else {
