@@ -6,14 +6,15 @@
 //!
 //! `cargo bench -p bgdsl-runtime --bench events` first prints a table (per method: the
 //! median wall time of both runs over 101 interleaved repetitions, their steps, the
-//! ratio, and the cost per event in microseconds and in steps of the anchor), then
-//! times both runs with criterion.
+//! ratio, and the cost per event in microseconds and in steps of the anchor; and the
+//! ball again with `interior_points = 0`, so the last column is what looking inside
+//! every step costs the run), then times both runs with criterion.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use bgdsl_runtime::{
-    FixedStep, Radau5Options, Rodas4Options, Simulation, Solver, Stats, Trajectory,
+    EventOptions, FixedStep, Radau5Options, Rodas4Options, Simulation, Solver, Stats, Trajectory,
 };
 use criterion::{BenchmarkId, Criterion};
 
@@ -83,7 +84,7 @@ fn table() {
     let (ball, free) = models();
     let t_end = ball.apex(BOUNCES).0;
     println!(
-        "{:<13} {:>11} {:>6} {:>11} {:>6} {:>7} {:>6} {:>10} {:>11}",
+        "{:<13} {:>11} {:>6} {:>11} {:>6} {:>7} {:>6} {:>10} {:>11} {:>14}",
         "method",
         "anchor µs",
         "steps",
@@ -92,12 +93,19 @@ fn table() {
         "events",
         "ratio",
         "µs/event",
-        "steps/event"
+        "steps/event",
+        "inside points"
     );
     for (name, solver) in methods() {
         let mut anchor = Prepared::new(&free, solver, t_end);
         let mut bouncing = Prepared::new(&ball, solver, t_end);
-        let (mut ta, mut tb) = (Vec::new(), Vec::new());
+        let mut ends_only = Prepared::new(&ball, solver, t_end);
+        let options = EventOptions {
+            interior_points: 0,
+            ..EventOptions::default()
+        };
+        ends_only.sim.set_event_options(options).unwrap();
+        let (mut ta, mut tb, mut tc) = (Vec::new(), Vec::new(), Vec::new());
         let (mut sa, mut sb) = (Stats::default(), Stats::default());
         for _ in 0..101 {
             let start = Instant::now();
@@ -106,13 +114,17 @@ fn table() {
             let start = Instant::now();
             sb = black_box(bouncing.run());
             tb.push(start.elapsed());
+            let start = Instant::now();
+            black_box(ends_only.run());
+            tc.push(start.elapsed());
         }
         assert_eq!((sa.events, sb.events), (0, BOUNCES));
         let (ta, tb) = (median(ta).as_secs_f64(), median(tb).as_secs_f64());
+        let tc = median(tc).as_secs_f64();
         let per_event = (tb - ta) / BOUNCES as f64;
         let per_step = ta / sa.steps() as f64;
         println!(
-            "{:<13} {:>11.1} {:>6} {:>11.1} {:>6} {:>7} {:>6.2} {:>10.2} {:>11.1}",
+            "{:<13} {:>11.1} {:>6} {:>11.1} {:>6} {:>7} {:>6.2} {:>10.2} {:>11.1} {:>+13.0}%",
             name,
             ta * 1e6,
             sa.steps(),
@@ -121,7 +133,8 @@ fn table() {
             sb.events,
             tb / ta,
             per_event * 1e6,
-            per_event / per_step
+            per_event / per_step,
+            100.0 * (tb / tc - 1.0)
         );
     }
 }
