@@ -136,7 +136,8 @@ pub fn describe(name: &str) -> Result<ModelDescription, UnknownModel> {
 /// An unknown model, a library that cannot be read, or the file cannot be written.
 pub fn write_fmu(name: &str, library: &Path, out: &Path) -> Result<PathBuf, ExportError> {
     let entry = model(name)?;
-    let written = bgdsl_fmi_core::write_fmu(&entry.describe(), entry.identifier(), library, out)?;
+    let written = bgdsl_fmi_core::write_fmu(&entry.describe(), entry.identifier(), library, out)
+        .map_err(|e| e.for_package(bgdsl_fmi_core::CATALOGUE_PACKAGE))?;
     Ok(written)
 }
 

@@ -86,7 +86,10 @@ pub mod zip;
 pub use description::{guid, ModelDescription, NamingConvention};
 pub use fmi2::Status;
 pub use instance::{CallError, Instance};
-pub use library::{check_serves, find_library, find_library_named, library_file_name, LIBRARY_ENV};
+pub use library::{
+    check_serves, find_library, find_library_named, find_library_of, library_file_name,
+    library_name, CATALOGUE_PACKAGE, LIBRARY_ENV,
+};
 pub use machine::{Call, Phase};
 pub use model::{finite_only, Adapter, Exportable, FmuModel, ParameterCheck, Sizes, Stopped};
 pub use package::{fmu_bytes, platform_folder, write_fmu, FmuError};

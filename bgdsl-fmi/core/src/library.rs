@@ -9,13 +9,23 @@ use crate::fmi2::{Boolean, CallbackFunctions, Component, FmiString, FALSE};
 use crate::package::FmuError;
 
 /// The environment variable that names the shared library, overriding the search of
-/// [`find_library`].
+/// [`find_library`] and [`find_library_of`].
 pub const LIBRARY_ENV: &str = "BGDSL_FMI_LIBRARY";
+
+/// The package whose `cdylib` serves every model of the `models` catalogue
+/// (`libbgdsl_fmi.so`), the library [`find_library`] finds.
+pub const CATALOGUE_PACKAGE: &str = "bgdsl-fmi";
 
 /// The file name of the shared library `cargo build -p bgdsl-fmi` makes on this
 /// platform (`libbgdsl_fmi.so` on Linux).
 pub fn library_file_name() -> String {
-    dll_file_name("bgdsl_fmi")
+    dll_file_name(&library_name(CATALOGUE_PACKAGE))
+}
+
+/// The name of the library a package builds when its `Cargo.toml` does not set one:
+/// the package's name with `-` turned into `_` (`my-pump` builds `libmy_pump.so`).
+pub fn library_name(package: &str) -> String {
+    package.replace('-', "_")
 }
 
 /// The platform's file name of the shared library called `name`.
@@ -27,22 +37,43 @@ fn dll_file_name(name: &str) -> String {
     )
 }
 
-/// Finds the shared library: the file named by `BGDSL_FMI_LIBRARY` if set; otherwise
-/// [`library_file_name`] found by [`find_library_named`].
+/// Finds the shared library of the `models` catalogue ([`CATALOGUE_PACKAGE`]):
+/// [`find_library_of`] for it.
 ///
 /// # Errors
 ///
 /// [`FmuError::LibraryNotFound`], listing the paths tried.
 pub fn find_library() -> Result<PathBuf, FmuError> {
-    if let Some(path) = std::env::var_os(LIBRARY_ENV) {
-        let path = PathBuf::from(path);
-        return if path.is_file() {
-            Ok(path)
-        } else {
-            Err(FmuError::LibraryNotFound { tried: vec![path] })
-        };
-    }
-    find_library_named("bgdsl_fmi")
+    find_library_of(CATALOGUE_PACKAGE)
+}
+
+/// Finds the FMI shared library that the package `package` builds (its `cdylib`,
+/// `lib<package>.so` with `-` as `_`, see [`library_name`]): the file named by
+/// `BGDSL_FMI_LIBRARY` if set; otherwise the library found by [`find_library_named`]
+/// beside the running program. A user's program (`cargo build --release` builds both
+/// `target/release/<program>` and `target/release/lib<package>.so`) finds its own
+/// library with it. The errors name the package, so that they say what to build.
+///
+/// # Errors
+///
+/// [`FmuError::LibraryNotFound`], listing the paths tried.
+pub fn find_library_of(package: &str) -> Result<PathBuf, FmuError> {
+    let found = match std::env::var_os(LIBRARY_ENV) {
+        Some(path) => {
+            let path = PathBuf::from(path);
+            if path.is_file() {
+                Ok(path)
+            } else {
+                Err(FmuError::LibraryNotFound {
+                    file: dll_file_name(&library_name(package)),
+                    package: None,
+                    tried: vec![path],
+                })
+            }
+        }
+        None => find_library_named(&library_name(package)),
+    };
+    found.map_err(|e| e.for_package(package))
 }
 
 /// Finds the shared library of the crate whose library is called `name` (the
@@ -70,7 +101,11 @@ pub fn find_library_named(name: &str) -> Result<PathBuf, FmuError> {
             tried.push(candidate);
         }
     }
-    Err(FmuError::LibraryNotFound { tried })
+    Err(FmuError::LibraryNotFound {
+        file,
+        package: None,
+        tried,
+    })
 }
 
 /// `fmi2Instantiate`'s signature.
@@ -151,6 +186,61 @@ pub fn check_serves(library: &Path, description: &ModelDescription) -> Result<()
             path: library.to_path_buf(),
             model: description.model_name.to_string(),
             guid: description.guid.clone(),
+            package: None,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_package_builds_the_library_named_after_it_with_underscores() {
+        assert_eq!(library_name("my-pump"), "my_pump");
+        assert_eq!(library_name("starter"), "starter");
+        assert_eq!(library_file_name(), dll_file_name("bgdsl_fmi"));
+        if cfg!(target_os = "linux") {
+            assert_eq!(dll_file_name(&library_name("my-pump")), "libmy_pump.so");
+        }
+    }
+
+    #[test]
+    fn a_library_not_found_says_which_package_to_build_and_where_it_looked() {
+        let error = find_library_named("no_such_library_anywhere")
+            .unwrap_err()
+            .for_package("no-such-library-anywhere");
+        let message = error.to_string();
+        assert!(
+            message.contains(&dll_file_name("no_such_library_anywhere")),
+            "{message}"
+        );
+        assert!(
+            message.contains("`cargo build -p no-such-library-anywhere --release`"),
+            "{message}"
+        );
+        let FmuError::LibraryNotFound { tried, .. } = &error else {
+            panic!("{error:?}");
+        };
+        // Beside the test program, one folder up, and in `deps/` beside it.
+        assert_eq!(tried.len(), 3, "{tried:?}");
+        for path in tried {
+            assert!(message.contains(&path.display().to_string()), "{message}");
+        }
+    }
+
+    #[test]
+    fn without_a_package_the_advice_names_the_crate_that_exports() {
+        let message = find_library_named("no_such_library_anywhere")
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("`export_fmi2!`"), "{message}");
+        // A package named once is not renamed by a second call.
+        let twice = find_library_named("x")
+            .unwrap_err()
+            .for_package("first")
+            .for_package("second")
+            .to_string();
+        assert!(twice.contains("-p first "), "{twice}");
     }
 }

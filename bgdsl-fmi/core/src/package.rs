@@ -18,7 +18,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::description::ModelDescription;
-use crate::library::{check_serves, library_file_name, LIBRARY_ENV};
+use crate::library::{check_serves, LIBRARY_ENV};
 use crate::variables::Role;
 use crate::xml::{escape, model_description_xml, xml_double};
 use crate::zip::{ZipError, ZipWriter};
@@ -57,6 +57,10 @@ pub enum FmuError {
     },
     /// The shared library could not be found: where it was looked for.
     LibraryNotFound {
+        /// The file looked for (`libbgdsl_fmi.so`).
+        file: String,
+        /// The package that builds it, when known (see [`FmuError::for_package`]).
+        package: Option<String>,
         /// The paths tried, in order.
         tried: Vec<PathBuf>,
     },
@@ -89,6 +93,9 @@ pub enum FmuError {
         model: String,
         /// The model's GUID.
         guid: String,
+        /// The package that builds the library, when known (see
+        /// [`FmuError::for_package`]).
+        package: Option<String>,
     },
     /// This platform has no FMI 2.0 binaries folder.
     UnsupportedPlatform,
@@ -111,12 +118,16 @@ impl core::fmt::Display for FmuError {
                 "`{identifier}` cannot be a modelIdentifier: it must be a C identifier \
                  (letters, digits, `_`, not starting with a digit)"
             ),
-            FmuError::LibraryNotFound { tried } => {
+            FmuError::LibraryNotFound {
+                file,
+                package,
+                tried,
+            } => {
                 write!(
                     f,
-                    "the FMI shared library {} was not found; build it with `cargo build -p \
-                     bgdsl-fmi --release` or name it in {LIBRARY_ENV}. Looked at:",
-                    library_file_name()
+                    "the FMI shared library {file} was not found; build it with {} or name \
+                     it in {LIBRARY_ENV}. Looked at:",
+                    build_advice(package.as_deref())
                 )?;
                 for path in tried {
                     write!(f, " {}", path.display())?;
@@ -143,12 +154,17 @@ impl core::fmt::Display for FmuError {
                     path.display()
                 )
             }
-            FmuError::WrongLibrary { path, model, guid } => write!(
+            FmuError::WrongLibrary {
+                path,
+                model,
+                guid,
+                package,
+            } => write!(
                 f,
                 "the shared library {} does not serve model {model} (GUID {guid}): it was \
-                 built from other model code; rebuild it with `cargo build -p bgdsl-fmi \
-                 --release`",
-                path.display()
+                 built from other model code; rebuild it with {}",
+                path.display(),
+                build_advice(package.as_deref())
             ),
             FmuError::UnsupportedPlatform => write!(
                 f,
@@ -171,6 +187,47 @@ impl std::error::Error for FmuError {
             FmuError::Zip(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl FmuError {
+    /// The same error naming `package` as the crate that builds the shared library, so
+    /// that its message says `cargo build -p <package> --release`: for a library that
+    /// is missing or built from other model code (other errors are returned as they
+    /// are, and so is one that names a package already).
+    #[must_use]
+    pub fn for_package(self, package: &str) -> Self {
+        match self {
+            FmuError::LibraryNotFound {
+                file,
+                package: None,
+                tried,
+            } => FmuError::LibraryNotFound {
+                file,
+                package: Some(package.to_string()),
+                tried,
+            },
+            FmuError::WrongLibrary {
+                path,
+                model,
+                guid,
+                package: None,
+            } => FmuError::WrongLibrary {
+                path,
+                model,
+                guid,
+                package: Some(package.to_string()),
+            },
+            other => other,
+        }
+    }
+}
+
+/// How to build a package's shared library: the command when the package is known.
+fn build_advice(package: Option<&str>) -> String {
+    match package {
+        Some(package) => format!("`cargo build -p {package} --release`"),
+        None => "`cargo build --release` in the crate that invokes `export_fmi2!`".to_string(),
     }
 }
 

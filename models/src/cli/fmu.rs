@@ -15,11 +15,12 @@ use crate::catalog;
 /// found, so a command that fails for want of it creates nothing.
 pub(super) fn fmu(name: &str, out: Option<PathBuf>) -> Result<(), Failure> {
     let entry = catalog::find(name).map_err(|e| Failure::Usage(e.to_string()))?;
-    let library = bgdsl_fmi_core::find_library().map_err(library_failure)?;
+    let package = bgdsl_fmi_core::CATALOGUE_PACKAGE;
+    let library = bgdsl_fmi_core::find_library_of(package).map_err(library_failure)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out/fmu"));
     catalog::create_output_dir(folder_of(&out)).map_err(Failure::Run)?;
     let written = bgdsl_fmi_core::write_fmu(&entry.model.fmu_description(), name, &library, &out)
-        .map_err(library_failure)?;
+        .map_err(|e| library_failure(e.for_package(package)))?;
     println!("{}", written.display());
     Ok(())
 }
