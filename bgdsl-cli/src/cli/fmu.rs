@@ -1,21 +1,26 @@
-//! `models fmu`: a model as an FMI 2.0 functional mock-up unit.
+//! `fmu`: a model as an FMI 2.0 functional mock-up unit.
 
 use std::path::{Path, PathBuf};
 
 use bgdsl_fmi_core::FmuError;
 
 use super::Failure;
-use crate::catalog;
+use crate::catalog::{self, Catalogue};
 
-/// `models fmu <model> [--out PATH]`: writes the FMU and prints its path.
+/// `<program> fmu <model> [--out PATH]`: writes the FMU and prints its path. Its
+/// binary is the shared library of the catalogue's [`fmi_package`](Catalogue::fmi_package)
+/// (the program's own package unless the catalogue names another), found beside the
+/// program or at `$BGDSL_FMI_LIBRARY` ([`bgdsl_fmi_core::find_library_of`]).
 ///
 /// `PATH` ending in `.fmu` is the file; anything else is a folder to write
 /// `<model>.fmu` into (default `out/fmu`). Missing folders are created by the rule
 /// `run --out` follows ([`catalog::create_output_dir`]), once the library has been
 /// found, so a command that fails for want of it creates nothing.
-pub(super) fn fmu(name: &str, out: Option<PathBuf>) -> Result<(), Failure> {
-    let entry = catalog::find(name).map_err(|e| Failure::Usage(e.to_string()))?;
-    let package = bgdsl_fmi_core::CATALOGUE_PACKAGE;
+pub(super) fn fmu(catalogue: &Catalogue, name: &str, out: Option<PathBuf>) -> Result<(), Failure> {
+    let entry = catalogue
+        .find(name)
+        .map_err(|e| Failure::Usage(e.to_string()))?;
+    let package = catalogue.fmi_package.as_str();
     let library = bgdsl_fmi_core::find_library_of(package).map_err(library_failure)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out/fmu"));
     catalog::create_output_dir(folder_of(&out)).map_err(Failure::Run)?;
