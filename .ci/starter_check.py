@@ -59,7 +59,7 @@ def check(ok, what):
 def results(folder):
     data = rows(f"{folder}/scale.csv")
     # The stiff solver's default tolerances: 5e-6 kg seen; 1e-4 kg is 0.005 % of the load.
-    error = max(abs(float(r["reading"]) - reading(float(r["time"]), 40.0)) for r in data)
+    error = max(abs(float(r["reading"]) - reading(float(r["t"]), 40.0)) for r in data)
     ok = check(len(data) == 1001, f"scale.csv has 1001 samples (0 to 1 s every 1 ms): {len(data)}")
     return check(error < 1e-4, f"the reading follows the closed form within 1e-4 kg: {error:.2e}") and ok
 

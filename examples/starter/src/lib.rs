@@ -7,7 +7,7 @@
 //! `export_fmi2!` below gives it the FMI 2.0 C functions, and `starter fmu scale` packs
 //! it with the model's description into `scale.fmu`.
 
-use bgdsl_cli::Checks;
+use bgdsl_cli::catalog::Checks;
 use bgdsl_fmi_core::ModelEntry;
 use bgdsl_runtime::bond_graph;
 

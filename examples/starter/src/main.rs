@@ -3,12 +3,15 @@
 
 use std::process::ExitCode;
 
-use bgdsl_cli::{Catalogue, Entry};
+use bgdsl_cli::Entry;
 use starter::Scale;
 
 fn main() -> ExitCode {
-    // `bgdsl_cli::catalogue![Scale]` would do with the defaults (10 s, 1000 samples,
-    // no checks beyond finite values); the first model is the one run without a command.
-    let scale = Entry::of::<Scale>().t_end(1.0).checks(starter::check);
-    bgdsl_cli::main(Catalogue::new(env!("CARGO_PKG_NAME")).entry(scale))
+    // `catalogue![Scale]` alone would take the defaults (10 s, 1000 samples, no rules
+    // beyond finite numbers). The first model is what the program runs without a command.
+    let scale = Entry::of::<Scale>()
+        .description("a kitchen scale: a load set down on a pan on a spring and a dashpot")
+        .t_end(1.0)
+        .checks(starter::check);
+    bgdsl_cli::main(bgdsl_cli::catalogue![].entry(scale))
 }

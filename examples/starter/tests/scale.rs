@@ -2,7 +2,7 @@
 //! response of a damped oscillator (any control textbook, e.g. Ogata, Modern Control
 //! Engineering, section 5-3), and its rules.
 
-use bgdsl_cli::Checks;
+use bgdsl_cli::catalog::Checks;
 use bgdsl_runtime::{simulate, Model, Solver};
 use starter::{check, Scale, ScaleParams};
 
