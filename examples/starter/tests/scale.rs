@@ -63,7 +63,10 @@ fn a_negative_damping_or_mass_breaks_the_rules() {
     let problems: Vec<String> = checks.problems().iter().map(|p| p.to_string()).collect();
     assert_eq!(problems.len(), 2, "{problems:?}");
     assert!(problems[0].starts_with("parameter `pan`"), "{problems:?}");
-    assert!(problems[1].starts_with("parameter `damping`"), "{problems:?}");
+    assert!(
+        problems[1].starts_with("parameter `damping`"),
+        "{problems:?}"
+    );
     let mut checks = Checks::new(Scale::PARAMETERS);
     check(&ScaleParams::default(), &mut checks);
     assert!(checks.problems().is_empty());
