@@ -572,9 +572,9 @@ fn plots(
     Plots::Only(names.into_values().collect())
 }
 
-/// Every figure asked for has something to draw: for the models other than the quick
-/// return, a chart is of a recorded output, so one of an output `record` leaves out, or
-/// `plots: all` when `record` names no output, would draw nothing.
+/// Every figure asked for has something to draw: for a model whose extras draw no
+/// figures of their own, a chart is of a recorded output, so one of an output `record`
+/// leaves out, or `plots: all` when `record` names no output, would draw nothing.
 fn figures_draw_something(
     entry: &Entry,
     record: &Option<Vec<(String, Column)>>,
