@@ -63,11 +63,17 @@ impl ExtraRun for Counting {
     }
 
     fn summary_tail(&self, run: &Finished<'_>) -> String {
-        format!("counted        {} samples of {}\n", self.samples, run.entry.name)
+        format!(
+            "counted        {} samples of {}\n",
+            self.samples, run.entry.name
+        )
     }
 
     fn sections(&self) -> Vec<String> {
-        vec![format!("<section id=\"count\">{} samples</section>\n", self.samples)]
+        vec![format!(
+            "<section id=\"count\">{} samples</section>\n",
+            self.samples
+        )]
     }
 }
 
@@ -169,12 +175,20 @@ fn a_generic_run_follows_the_closed_form() {
     for line in lines {
         let v: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
         let exact = 0.1 * (4.0 * v[0]).cos();
-        assert!((v[3] - exact).abs() < 1e-6, "t = {}: x = {} vs {exact}", v[0], v[3]);
+        assert!(
+            (v[3] - exact).abs() < 1e-6,
+            "t = {}: x = {} vs {exact}",
+            v[0],
+            v[3]
+        );
         rows += 1;
     }
     assert_eq!(rows, 1001, "0 to 10 s every 0.01 s");
     let units = fs::read_to_string(out.join("mass_spring.units.csv")).unwrap();
-    assert!(units.contains("\nx,m,\"Position of the mass, m.\"\n"), "{units}");
+    assert!(
+        units.contains("\nx,m,\"Position of the mass, m.\"\n"),
+        "{units}"
+    );
     assert!(out.join("run.yaml").is_file() && out.join("index.html").is_file());
     let record = fs::read_to_string(out.join("run.yaml")).unwrap();
     assert!(record.contains("name: bgdsl-cli"), "{record}");
@@ -203,10 +217,16 @@ fn extras_record_write_and_add_to_the_summary_and_the_page() {
     assert_eq!(STARTED.load(Ordering::SeqCst), before + 1);
     // 0, 0.5, ..., 2 s.
     assert_eq!(fs::read_to_string(out.join("count.txt")).unwrap(), "5");
-    assert_eq!(outcome.files[0], out.join("count.txt"), "the extras' files first");
+    assert_eq!(
+        outcome.files[0],
+        out.join("count.txt"),
+        "the extras' files first"
+    );
     assert_eq!(outcome.files[1], out.join("counted.csv"));
     assert!(
-        outcome.summary.contains("counted        5 samples of counted\n"),
+        outcome
+            .summary
+            .contains("counted        5 samples of counted\n"),
         "{}",
         outcome.summary
     );

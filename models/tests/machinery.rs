@@ -133,7 +133,13 @@ mod resolve {
 
     fn plan_of(text: &str, overrides: &Overrides) -> Result<Plan, Diagnostics> {
         let loaded = parse("s.yaml".into(), text.to_owned())?;
-        resolve(shared(), Some(&loaded.source), &loaded.scenario, overrides, "s")
+        resolve(
+            shared(),
+            Some(&loaded.source),
+            &loaded.scenario,
+            overrides,
+            "s",
+        )
     }
 
     fn run_plan(plan: Plan) -> RunPlan {
@@ -149,8 +155,16 @@ mod resolve {
             model: "quick_return".into(),
             ..Scenario::default()
         };
-        let plan =
-            run_plan(resolve(shared(), None, &scenario, &Overrides::default(), "quick_return").unwrap());
+        let plan = run_plan(
+            resolve(
+                shared(),
+                None,
+                &scenario,
+                &Overrides::default(),
+                "quick_return",
+            )
+            .unwrap(),
+        );
         assert_eq!(plan.times, spec_times(), "exactly k / 1000");
         assert_eq!(plan.solver, flagship_solver());
         assert_eq!(plan.out_dir, PathBuf::from("out/quick_return"));
