@@ -145,7 +145,9 @@ fn plan(name: &str, set: &[&str], out: &Path) -> Result<RunPlan, String> {
 #[test]
 fn the_macro_names_the_package_and_snake_cases_the_model() {
     assert_eq!(CATALOGUE.program, "bgdsl-cli");
-    assert_eq!(CATALOGUE.fmi_library, "libbgdsl_cli.so");
+    // The FMUs' library: the package's `cdylib`, `libbgdsl_cli.so` on Linux.
+    assert_eq!(CATALOGUE.fmi_package, "bgdsl-cli");
+    assert_eq!(bgdsl_fmi_core::library_name(&CATALOGUE.fmi_package), "bgdsl_cli");
     assert_eq!(CATALOGUE.names(), ["mass_spring", "counted"]);
     let entry = CATALOGUE.find("mass_spring").unwrap();
     assert_eq!(entry.description, "MassSpring");
