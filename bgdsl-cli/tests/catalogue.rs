@@ -147,7 +147,10 @@ fn the_macro_names_the_package_and_snake_cases_the_model() {
     assert_eq!(CATALOGUE.program, "bgdsl-cli");
     // The FMUs' library: the package's `cdylib`, `libbgdsl_cli.so` on Linux.
     assert_eq!(CATALOGUE.fmi_package, "bgdsl-cli");
-    assert_eq!(bgdsl_fmi_core::library_name(&CATALOGUE.fmi_package), "bgdsl_cli");
+    assert_eq!(
+        bgdsl_fmi_core::library_name(&CATALOGUE.fmi_package),
+        "bgdsl_cli"
+    );
     assert_eq!(CATALOGUE.names(), ["mass_spring", "counted"]);
     let entry = CATALOGUE.find("mass_spring").unwrap();
     assert_eq!(entry.description, "MassSpring");
