@@ -65,7 +65,9 @@
 //! A crate that builds as a `cdylib`, lists its models in a `static` registry of
 //! [`ModelEntry`] (optionally [`ModelEntry::with_check`]), invokes [`export_fmi2!`] once,
 //! and packs the FMU with [`write_fmu`]: `bgdsl-fmi/example/` in the repository is a
-//! complete, tested one.
+//! complete, tested one. A program made with `bgdsl-cli` does the packing itself
+//! (`<program> fmu <model>`), with the library of its package that
+//! [`find_library_of`] finds beside it (`examples/starter/` in the repository).
 #![warn(missing_docs)]
 
 pub mod description;
