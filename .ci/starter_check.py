@@ -5,9 +5,9 @@ Run by `.ci/starter` as `python3 starter_check.py KIND PATH`:
 - `results DIR`: DIR/scale.csv (the run of scenarios/load.yaml, default parameters);
 - `sweep DIR`: DIR/sweep.csv (scenarios/damping_sweep.yaml): the peak reading of
   each damping;
-- `fmu FILE`: FMPy's `validate_fmu` finds no problem in the FMU, and its
+- `fmu FILE`: FMPy's `validate_fmu` finds no problem in the FMU, its
   Co-Simulation run with `damping` set to 80 N s/m through `start_values` follows the
-  closed form.
+  closed form, and a negative damping is refused (the template's rules, in the FMU).
 
 The scale is a damped oscillator stepped by its load (see examples/starter/src/lib.rs):
 with m = pan + load, w = sqrt(k / m), z = c / (2 sqrt(k m)) < 1 and
@@ -92,7 +92,14 @@ def fmu(path):
                                start_values={"damping": damping}, output=["reading"])
     error = max(abs(row["reading"] - reading(row["time"], damping)) for row in result)
     ok = check(len(result) == 1001, f"FMPy's run has 1001 rows: {len(result)}") and ok
-    return check(error < 1e-4, f"FMPy's run (damping {damping}) follows the closed form within 1e-4 kg: {error:.2e}") and ok
+    ok = check(error < 1e-4, f"FMPy's run (damping {damping}) follows the closed form within 1e-4 kg: {error:.2e}") and ok
+    # The FMU keeps the scale's rules (its `check`, as `run` does): fmi2SetReal refuses.
+    try:
+        fmpy.simulate_fmu(path, fmi_type="CoSimulation", stop_time=0.1, start_values={"damping": -40.0})
+        refused = False
+    except Exception as e:  # FMPy raises its FMICallException for the refused call
+        refused = "fmi2SetReal" in str(e)
+    return check(refused, "the FMU refuses a negative damping (fmi2SetReal fails)") and ok
 
 
 if __name__ == "__main__":

@@ -37,6 +37,7 @@
 
 pub mod catalog;
 pub mod cli;
+pub mod fmi;
 pub mod interrupt;
 pub mod plot;
 pub mod provenance;

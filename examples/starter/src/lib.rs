@@ -63,7 +63,13 @@ pub fn check(p: &ScaleParams, checks: &mut Checks) {
 }
 
 /// The models this library serves as FMUs (an FMU finds its model by the GUID in its
-/// `modelDescription.xml`): list every model of `main.rs`'s catalogue here.
-pub static FMI_MODELS: &[ModelEntry] = &[ModelEntry::new::<Scale>("scale")];
+/// `modelDescription.xml`): list every model of `main.rs`'s catalogue here, each with
+/// its rules for the parameter values an importer sets.
+pub static FMI_MODELS: &[ModelEntry] = &[ModelEntry::new::<Scale>("scale").with_check(fmi_check)];
 
 bgdsl_fmi_core::export_fmi2!(FMI_MODELS);
+
+/// [`check`] for the values an FMU's importer sets: it refuses what `run` refuses.
+fn fmi_check(values: &[f64]) -> Result<(), String> {
+    bgdsl_cli::fmi::check_values::<Scale>(values, check)
+}

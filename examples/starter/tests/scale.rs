@@ -71,3 +71,16 @@ fn a_negative_damping_or_mass_breaks_the_rules() {
     check(&ScaleParams::default(), &mut checks);
     assert!(checks.problems().is_empty());
 }
+
+#[test]
+fn an_fmus_importer_meets_the_same_rules() {
+    // In `Model::parameter_values` order: pan, load, stiffness, damping, g.
+    let values = [0.5, 2.0, 5000.0, -40.0, 9.81];
+    let refused = bgdsl_cli::fmi::check_values::<Scale>(&values, check).unwrap_err();
+    assert!(refused.starts_with("parameter `damping`"), "{refused}");
+    let values = [0.5, 2.0, 5000.0, 40.0, 9.81];
+    assert_eq!(
+        bgdsl_cli::fmi::check_values::<Scale>(&values, check),
+        Ok(())
+    );
+}
