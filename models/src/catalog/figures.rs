@@ -3,6 +3,8 @@
 //! models, the sweep's charts (all with [`crate::plot`]), and `index.html`
 //! ([`crate::report`]). Every image is written in PNG and SVG.
 
+pub(super) mod energy;
+
 use std::path::{Path, PathBuf};
 
 use super::columns::{column_unit, Table};
