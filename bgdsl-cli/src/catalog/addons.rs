@@ -5,9 +5,11 @@
 use bgdsl_runtime::Model;
 
 use super::extras::{ExtraRun, RunContext};
+use super::figures::generic::GenericRun;
 use super::RunError;
 
-/// The add-ons of one run of `model` (none yet).
+/// The add-ons of one run of `model`: the generic figures' ([`GenericRun`]: energy
+/// balance, phase portraits, the causal graph's section).
 ///
 /// # Errors
 ///
@@ -16,6 +18,6 @@ pub(super) fn start<'a, M: Model>(
     model: &'a M,
     run: &RunContext<'a>,
 ) -> Result<Vec<Box<dyn ExtraRun + 'a>>, RunError> {
-    let _ = (model, run);
-    Ok(Vec::new())
+    let generic: Box<dyn ExtraRun + 'a> = Box::new(GenericRun::start(model, run));
+    Ok(vec![generic])
 }

@@ -3,6 +3,10 @@
 //! Every image is written in PNG and SVG.
 
 pub(super) mod energy;
+pub(super) mod generic;
+pub(super) mod graph;
+pub(super) mod phase;
+pub(super) mod states;
 
 use std::path::{Path, PathBuf};
 
@@ -37,7 +41,7 @@ pub fn plot_error(e: PlotError) -> RunError {
 
 /// An error once a signal asked the program to stop ([`crate::interrupt`]): drawing
 /// stops between charts.
-fn stop_if_interrupted() -> Result<(), RunError> {
+pub(super) fn stop_if_interrupted() -> Result<(), RunError> {
     if crate::interrupt::requested() {
         Err(plot_error(PlotError::Interrupted))
     } else {
@@ -46,7 +50,7 @@ fn stop_if_interrupted() -> Result<(), RunError> {
 }
 
 /// A file name from a column name: letters, digits, `_` and `-` kept, the rest `_`.
-fn file_stem(name: &str) -> String {
+pub(super) fn file_stem(name: &str) -> String {
     name.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
@@ -59,7 +63,7 @@ fn file_stem(name: &str) -> String {
 }
 
 /// An axis label: `name (unit)`, or the bare name where the unit is not known.
-fn with_unit(name: &str, unit: &str) -> String {
+pub(super) fn with_unit(name: &str, unit: &str) -> String {
     if unit.is_empty() {
         name.to_owned()
     } else {

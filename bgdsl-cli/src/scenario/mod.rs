@@ -79,6 +79,7 @@
 
 mod diagnostic;
 pub mod locate;
+mod phase;
 mod resolve;
 mod schema;
 mod solver;

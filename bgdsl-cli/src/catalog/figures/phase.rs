@@ -79,8 +79,8 @@ pub(in crate::catalog) fn draw(
                 entry.model.type_name(),
                 entry.name
             ),
-            x_label: with_unit(x, column_unit(entry.model, x).0),
-            y_label: with_unit(y, column_unit(entry.model, y).0),
+            x_label: with_unit(x, column_unit(&*entry.model, x).0),
+            y_label: with_unit(y, column_unit(&*entry.model, y).0),
             series: vec![
                 Series::new(format!("({x}, {y})"), points.clone()),
                 Series::new("start", ends(points[0])),

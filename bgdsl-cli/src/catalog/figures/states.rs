@@ -105,7 +105,7 @@ pub(in crate::catalog) fn draw(
         stop_if_interrupted()?;
         let units: Vec<&str> = series
             .iter()
-            .map(|s| column_unit(entry.model, &s.label).0)
+            .map(|s| column_unit(&*entry.model, &s.label).0)
             .collect();
         let unit = if units.iter().all(|u| *u == units[0]) {
             units[0]
