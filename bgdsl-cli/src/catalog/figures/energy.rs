@@ -188,7 +188,12 @@ pub(in crate::catalog) fn draw(
             SeriesStyle::solid((44, 160, 44)),
             SeriesStyle::solid((255, 127, 14)),
         ]),
-        panel(vec![SeriesStyle::solid((0, 0, 0))]),
+        // 1 px: plotters' bitmap backend draws steep 2 px segments of a noisy curve
+        // far past their ends (the SVG is right).
+        panel(vec![SeriesStyle {
+            width: 1,
+            ..SeriesStyle::solid((0, 0, 0))
+        }]),
     ];
     let title = format!(
         "{} ({}): energy balance",
