@@ -82,7 +82,8 @@ pub(super) fn trajectory(
     let mut drawn = Vec::new();
     for (name, values) in table.columns() {
         let wanted = match plots {
-            Plots::Only(ids) => ids.iter().any(|id| id == name),
+            // A state named in `plots` is drawn by `states`, not here.
+            Plots::Only(ids) => outputs.contains(&name) && ids.iter().any(|id| id == name),
             _ => outputs.contains(&name),
         };
         if !wanted || table.len() < 2 {
