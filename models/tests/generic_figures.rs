@@ -64,8 +64,10 @@ fn a_free_oscillator_run_draws_states_energy_and_the_graph() {
     let graph = &graph[..graph.find("</section>").unwrap()];
     if has_dot() {
         assert!(graph.contains("<svg") && graph.contains("</svg>"), "{graph}");
-        // Graphviz writes each node's name as its title.
-        assert!(graph.contains(">mass<") && graph.contains(">damper<"), "{graph}");
+        // Each element labelled with its kind and name.
+        for label in [">Se : push<", ">I : mass<", ">C : spring<", ">R : damper<"] {
+            assert!(graph.contains(label), "{label}: {graph}");
+        }
     } else {
         assert!(graph.contains("<pre>digraph"), "{graph}");
     }
