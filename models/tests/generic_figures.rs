@@ -128,3 +128,19 @@ fn unknown_phase_names_are_placed_and_listed() {
     assert_eq!(files(&dir), ["bad.yaml"], "nothing written");
     assert!(!Path::new(&dir.join("out")).exists());
 }
+
+#[test]
+fn a_sweep_refuses_phase_portraits() {
+    let dir = scratch("generic-phase-sweep");
+    let text = "model: oscillator\nplots:\n  phase: [[x, speed]]\nsweep:\n  parameters:\n    \
+                - name: c\n      values: [0.4, 1.0]\n  peaks: [x]\n";
+    fs::write(dir.join("sw.yaml"), text).unwrap();
+    let run = run_in(&dir, &["run", "sw.yaml", "--out", "out"]);
+    assert_code(&run, 2);
+    assert_eq!(
+        run.stderr.trim_end(),
+        "error: sw.yaml:3:3: a sweep draws no phase portraits (it keeps no run's samples); \
+         run one point without `sweep` to draw them"
+    );
+    assert_eq!(files(&dir), ["sw.yaml"], "nothing written");
+}

@@ -25,6 +25,9 @@
 //!   # count: 5001                #   a number of samples (>= 2), ends included
 //!   record: [crank_angle, j01.spring.q]   # states and outputs to record
 //! plots: all                     # optional: all (default) | none | [fig05, fig07, ...]
+//! # plots:                       #   or a mapping:
+//! #   figures: [x, energy_balance]  # all | none | [ids], as above
+//! #   phase: [[x, speed]]        #   phase portraits: pairs of state or output names
 //! sweep:                         # optional: run a grid of points instead of one run
 //!   parameters:                  #   one or two scalar parameters
 //!     - name: w_drive
@@ -49,9 +52,17 @@
 //!   the results file always has the spec's 56 columns**, whatever `record` says; the
 //!   columns `record` names are written to a second file, `quick_return_extra.csv` (no
 //!   such file without `record`).
-//! - **`plots`** chooses figures by id: for the quick return the ids of
-//!   [`FIGURE_IDS`](crate::quick_return::figures::FIGURE_IDS); for other models the
-//!   names of recorded outputs (one chart each, against time).
+//! - **`plots`** chooses figures by id: for a model whose extras draw their own (the
+//!   quick return) the ids they list; for other models the names of recorded outputs
+//!   (one chart each, against time), of states or vectors of states (one chart each,
+//!   drawn by default only for models of at most
+//!   [`STATE_CHART_LIMIT`](crate::catalog::STATE_CHART_LIMIT) states), and
+//!   `energy_balance`. In its mapping form, `figures` chooses them so and `phase`
+//!   lists phase portraits, each a pair `[x, y]` of state or output names (one
+//!   component, not a vector), drawn as `phase_<x>_<y>.png` for any model; a name's
+//!   error points at its pair (a flow list is not looked into, see [`locate`]).
+//!   `--phase X,Y` (repeatable) adds one; `--no-plots` draws none. A sweep draws
+//!   no phase portraits.
 //! - **`sweep`** runs every combination of the values of one or two parameters (the
 //!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
 //!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its

@@ -135,3 +135,22 @@ fn scalar(
     }
     found.into_iter().next()
 }
+
+/// A sweep draws no phase portraits: each one asked for is an error.
+pub(super) fn refuse_in_sweep(
+    scenario: &Scenario,
+    flags: &[String],
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) {
+    const WHY: &str = "a sweep draws no phase portraits (it keeps no run's samples); run \
+                       one point without `sweep` to draw them";
+    if let Some(Value::Mapping(map)) = &scenario.plots {
+        if map.contains_key("phase") {
+            d.push(places.keys(&["plots", "phase"]), WHY);
+        }
+    }
+    for flag in flags {
+        d.push(Origin::Flag(format!("--phase {flag}")), WHY);
+    }
+}

@@ -148,6 +148,9 @@ fn resolve_into(
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
     let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
+    if scenario.sweep.is_some() {
+        super::phase::refuse_in_sweep(scenario, &overrides.phase, &places, d);
+    }
     if scenario.sweep.is_none() {
         figures_draw_something(entry, scenario, &record, &plots, &places, d);
     }
