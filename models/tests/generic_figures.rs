@@ -13,7 +13,10 @@ use models::plot::{HEIGHT, WIDTH};
 
 /// The number after `label` in `text` (up to the next space).
 fn number_after(text: &str, label: &str) -> f64 {
-    let start = text.find(label).unwrap_or_else(|| panic!("no `{label}` in {text}")) + label.len();
+    let start = text
+        .find(label)
+        .unwrap_or_else(|| panic!("no `{label}` in {text}"))
+        + label.len();
     text[start..]
         .split_whitespace()
         .next()
@@ -32,14 +35,33 @@ fn a_free_oscillator_run_draws_states_energy_and_the_graph() {
     let run = run_in(
         &dir,
         &[
-            "run", "oscillator", "--set", "force=0", "--set", "c=2", "--solver", "dopri5",
-            "--rtol", "1e-10", "--atol", "1e-12", "--interval", "1e-3", "--out",
+            "run",
+            "oscillator",
+            "--set",
+            "force=0",
+            "--set",
+            "c=2",
+            "--solver",
+            "dopri5",
+            "--rtol",
+            "1e-10",
+            "--atol",
+            "1e-12",
+            "--interval",
+            "1e-3",
+            "--out",
             out.to_str().unwrap(),
         ],
     );
     assert_success(&run);
     let names = files(&out);
-    for stem in ["state_mass_p", "state_spring_q", "energy_balance", "x", "energy"] {
+    for stem in [
+        "state_mass_p",
+        "state_spring_q",
+        "energy_balance",
+        "x",
+        "energy",
+    ] {
         assert!(names.contains(&format!("{stem}.png")), "{stem}: {names:?}");
         assert!(names.contains(&format!("{stem}.svg")), "{stem}: {names:?}");
     }
@@ -60,10 +82,15 @@ fn a_free_oscillator_run_draws_states_energy_and_the_graph() {
     // The page holds the balance's figure and the causal graph.
     let index = fs::read_to_string(out.join("index.html")).unwrap();
     assert!(index.contains("id=\"energy_balance\""));
-    let graph = &index[index.find("<section id=\"causal-graph\">").expect("graph section")..];
+    let graph = &index[index
+        .find("<section id=\"causal-graph\">")
+        .expect("graph section")..];
     let graph = &graph[..graph.find("</section>").unwrap()];
     if has_dot() {
-        assert!(graph.contains("<svg") && graph.contains("</svg>"), "{graph}");
+        assert!(
+            graph.contains("<svg") && graph.contains("</svg>"),
+            "{graph}"
+        );
         // Each element labelled with its kind and name.
         for label in [">Se : push<", ">I : mass<", ">C : spring<", ">R : damper<"] {
             assert!(graph.contains(label), "{label}: {graph}");
@@ -86,10 +113,23 @@ fn phase_portraits_come_from_the_scenario_and_the_flag() {
     let text = "model: oscillator\nplots:\n  figures: [spring.q, energy_balance]\n  \
                 phase: [[x, speed]]\n";
     fs::write(dir.join("p.yaml"), text).unwrap();
-    let run = run_in(&dir, &["run", "p.yaml", "--phase", "spring.q,mass.p", "--out", "out"]);
+    let run = run_in(
+        &dir,
+        &[
+            "run",
+            "p.yaml",
+            "--phase",
+            "spring.q,mass.p",
+            "--out",
+            "out",
+        ],
+    );
     assert_success(&run);
     let out = dir.join("out");
-    let pngs: Vec<String> = files(&out).into_iter().filter(|n| n.ends_with(".png")).collect();
+    let pngs: Vec<String> = files(&out)
+        .into_iter()
+        .filter(|n| n.ends_with(".png"))
+        .collect();
     assert_eq!(
         pngs,
         [

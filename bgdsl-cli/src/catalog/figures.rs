@@ -3,6 +3,7 @@
 //! Every image is written in PNG and SVG.
 
 pub(super) mod energy;
+mod energy_chart;
 pub(super) mod generic;
 pub(super) mod graph;
 pub(super) mod phase;

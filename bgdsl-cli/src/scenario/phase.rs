@@ -24,10 +24,7 @@ const KEYS: [&str; 2] = ["figures", "phase"];
 /// `plots` itself, or its `figures` in the mapping form (`None`: all, the default).
 pub(super) fn figures_value(scenario: &Scenario) -> (Option<&Value>, KeyPath) {
     match &scenario.plots {
-        Some(Value::Mapping(map)) => (
-            map.get("figures"),
-            KeyPath::keys(&["plots", "figures"]),
-        ),
+        Some(Value::Mapping(map)) => (map.get("figures"), KeyPath::keys(&["plots", "figures"])),
         other => (other.as_ref(), KeyPath::keys(&["plots"])),
     }
 }
@@ -45,7 +42,9 @@ pub(super) fn phase_pairs(
     if let Some(Value::Mapping(map)) = &scenario.plots {
         for key in map.keys() {
             if !key.as_str().is_some_and(|k| KEYS.contains(&k)) {
-                let name = key.as_str().map_or_else(|| describe_value(key), str::to_owned);
+                let name = key
+                    .as_str()
+                    .map_or_else(|| describe_value(key), str::to_owned);
                 let origin = match key.as_str() {
                     Some(k) => places.keys(&["plots", k]),
                     None => places.keys(&["plots"]),
@@ -101,7 +100,10 @@ pub(super) fn phase_pairs(
     for flag in flags {
         let origin = || Origin::Flag(format!("--phase {flag}"));
         let Some((x, y)) = flag.split_once(',') else {
-            d.push(origin(), "expected X,Y: two state or output names, e.g. `--phase x,speed`");
+            d.push(
+                origin(),
+                "expected X,Y: two state or output names, e.g. `--phase x,speed`",
+            );
             continue;
         };
         let x = scalar(entry, x.trim(), origin(), d);

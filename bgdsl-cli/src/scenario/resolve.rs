@@ -583,7 +583,12 @@ fn plots(
 fn generic_figure_ids(entry: &Entry) -> Vec<String> {
     let states = entry.model.state_names();
     let groups = catalog::state_groups(states);
-    let mut ids: Vec<String> = entry.model.output_names().iter().map(|s| (*s).to_owned()).collect();
+    let mut ids: Vec<String> = entry
+        .model
+        .output_names()
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect();
     for group in groups {
         if group.members.len() > 1 {
             ids.push(group.id);

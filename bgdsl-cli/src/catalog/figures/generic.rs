@@ -11,7 +11,8 @@ use bgdsl_runtime::{EventRecord, Model, Recorder};
 
 use super::super::extras::{ExtraRun, Finished, RunContext};
 use super::super::{Entry, Plots, RunError};
-use super::energy::{self, EnergyRecorder};
+use super::energy::EnergyRecorder;
+use super::energy_chart;
 use super::phase::{self, PhaseRecorder};
 use super::{graph, DrawnFigure};
 
@@ -67,13 +68,13 @@ impl<M: Model> ExtraRun for GenericRun<'_, M> {
         let energy_wanted = match plots {
             Plots::None => false,
             Plots::All => true,
-            Plots::Only(ids) => ids.iter().any(|id| id == energy::FIGURE_ID),
+            Plots::Only(ids) => ids.iter().any(|id| id == energy_chart::FIGURE_ID),
         };
         if let (true, Some(balance)) = (
             energy_wanted,
             self.energy.as_ref().and_then(|e| e.balance()),
         ) {
-            drawn.extend(energy::draw(self.entry, balance, dir)?);
+            drawn.extend(energy_chart::draw(self.entry, balance, dir)?);
         }
         if let Some(p) = &self.phase {
             drawn.extend(phase::draw(self.entry, p, dir)?);

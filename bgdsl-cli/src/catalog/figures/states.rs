@@ -32,8 +32,8 @@ pub struct StateGroup {
 /// `crank.R_21`), if it is one.
 fn vector_of(name: &str) -> Option<&str> {
     let (prefix, c) = name.rsplit_once('_')?;
-    let component = matches!(c, "x" | "y" | "z")
-        || (c.len() == 2 && c.chars().all(|ch| ch.is_ascii_digit()));
+    let component =
+        matches!(c, "x" | "y" | "z") || (c.len() == 2 && c.chars().all(|ch| ch.is_ascii_digit()));
     (component && !prefix.is_empty()).then_some(prefix)
 }
 
@@ -129,8 +129,8 @@ pub(in crate::catalog) fn draw(
             series,
         };
         let stem = format!("{FILE_PREFIX}{}", file_stem(&group.id));
-        let files = draw_line_chart(&chart, &dir.join(stem), &ImageFormat::ALL)
-            .map_err(plot_error)?;
+        let files =
+            draw_line_chart(&chart, &dir.join(stem), &ImageFormat::ALL).map_err(plot_error)?;
         drawn.push(DrawnFigure {
             id: group.id.clone(),
             title: chart.title,
