@@ -24,7 +24,13 @@ fn run<M: Model>(model: &M, solver: Solver, times: &[f64], recorder: &mut dyn Re
     sim.run(times[0], &x0, times, recorder).unwrap();
 }
 
-fn compare<M: Model>(c: &mut Criterion, name: &str, model: &M, solver: Solver, times: &[f64]) {
+fn compare<M: Model + Clone>(
+    c: &mut Criterion,
+    name: &str,
+    model: &M,
+    solver: Solver,
+    times: &[f64],
+) {
     let mut group = c.benchmark_group(name);
     group.sample_size(10);
     group.bench_function("no recorder", |b| {
@@ -32,7 +38,7 @@ fn compare<M: Model>(c: &mut Criterion, name: &str, model: &M, solver: Solver, t
     });
     group.bench_function("energy recorder", |b| {
         b.iter(|| {
-            let mut energy = EnergyRecorder::new(black_box(model), times.len());
+            let mut energy = EnergyRecorder::new(black_box(model).clone(), times.len());
             run(model, solver, times, &mut energy);
             energy.into_balance()
         })

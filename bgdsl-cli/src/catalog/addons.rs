@@ -2,7 +2,7 @@
 //! [`ExtraRun`] started here with the typed model, beside the entry's extras (h2's
 //! animation recorder, h5's energy recorder plug in here).
 
-use bgdsl_runtime::Model;
+use bgdsl_runtime::FromParams;
 
 use super::extras::{ExtraRun, RunContext};
 use super::figures::generic::GenericRun;
@@ -14,7 +14,7 @@ use super::RunError;
 /// # Errors
 ///
 /// [`RunError`] when an add-on cannot start.
-pub(super) fn start<'a, M: Model>(
+pub(super) fn start<'a, M: FromParams>(
     model: &'a M,
     run: &RunContext<'a>,
 ) -> Result<Vec<Box<dyn ExtraRun + 'a>>, RunError> {

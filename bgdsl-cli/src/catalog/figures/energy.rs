@@ -137,10 +137,15 @@ pub(super) fn sig(v: f64) -> String {
     }
 }
 
-/// A [`Recorder`] that keeps a run's [`EnergyBalance`] for `model` (nothing for a model
-/// without an energy account).
-pub struct EnergyRecorder<'m, M: Model> {
-    model: &'m M,
+/// A [`Recorder`] that keeps a run's [`EnergyBalance`] (nothing for a model without an
+/// energy account).
+///
+/// It evaluates its own instance of the model, not the one being integrated: a model
+/// that solves an algebraic loop starts each solve from the last solution, so
+/// evaluations at other points (the perturbed times, the states just before an event)
+/// would change the run's results.
+pub struct EnergyRecorder<M: Model> {
+    model: M,
     /// `ẋ` and the states seeded with it, reused at every sample.
     dx: Vec<f64>,
     seeded: Vec<Dual>,
@@ -151,9 +156,10 @@ pub struct EnergyRecorder<'m, M: Model> {
     balance: EnergyBalance,
 }
 
-impl<'m, M: Model> EnergyRecorder<'m, M> {
-    /// A recorder for runs of `model`, with room for `samples` samples.
-    pub fn new(model: &'m M, samples: usize) -> Self {
+impl<M: Model> EnergyRecorder<M> {
+    /// A recorder that evaluates `model` (an instance of its own, with the run's
+    /// parameters), with room for `samples` samples.
+    pub fn new(model: M, samples: usize) -> Self {
         let with = |n| Vec::with_capacity(n);
         EnergyRecorder {
             model,
@@ -252,7 +258,7 @@ impl<'m, M: Model> EnergyRecorder<'m, M> {
     }
 }
 
-impl<M: Model> Recorder for EnergyRecorder<'_, M> {
+impl<M: Model> Recorder for EnergyRecorder<M> {
     fn record(&mut self, t: f64, x: &[f64], _y: &[f64]) {
         let Some((point, stored)) = self.point(t, x) else {
             return;
@@ -351,10 +357,10 @@ mod tests {
     }
 
     /// Runs `model` over `times` and returns its energy account.
-    fn balance<M: Model>(model: &M, times: &[f64]) -> EnergyBalance {
+    fn balance<M: Model + Clone>(model: &M, times: &[f64]) -> EnergyBalance {
         let mut x0 = vec![0.0; M::N_STATES];
         model.initial_state(&mut x0);
-        let mut recorder = EnergyRecorder::new(model, times.len());
+        let mut recorder = EnergyRecorder::new(model.clone(), times.len());
         let mut sim = Simulation::new(model, tight()).unwrap();
         sim.run(times[0], &x0, times, &mut recorder).unwrap();
         recorder.into_balance().unwrap()

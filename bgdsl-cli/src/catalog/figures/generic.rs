@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use bgdsl_runtime::{EventRecord, Model, Recorder};
+use bgdsl_runtime::{EventRecord, FromParams, Model, Recorder};
 
 use super::super::extras::{ExtraRun, Finished, RunContext};
 use super::super::{Entry, Plots, RunError};
@@ -19,7 +19,7 @@ use super::{graph, DrawnFigure};
 /// One run's generic add-on.
 pub(in crate::catalog) struct GenericRun<'a, M: Model> {
     entry: &'a Entry,
-    energy: Option<EnergyRecorder<'a, M>>,
+    energy: Option<EnergyRecorder<M>>,
     phase: Option<PhaseRecorder>,
     dot: Option<String>,
 }
@@ -29,7 +29,7 @@ pub(in crate::catalog) fn generic_figures(entry: &Entry) -> bool {
     entry.extras.figure_ids().is_none()
 }
 
-impl<'a, M: Model> GenericRun<'a, M> {
+impl<'a, M: FromParams> GenericRun<'a, M> {
     /// The add-on for a run of `model`.
     pub(in crate::catalog) fn start(model: &'a M, run: &RunContext<'a>) -> Self {
         let generic = generic_figures(run.entry);
@@ -37,7 +37,9 @@ impl<'a, M: Model> GenericRun<'a, M> {
         GenericRun {
             entry: run.entry,
             // Kept with plots off too: the summary's line needs it.
-            energy: generic.then(|| EnergyRecorder::new(model, run.capacity)),
+            energy: generic.then(|| {
+                EnergyRecorder::new(M::from_params(model.params().clone()), run.capacity)
+            }),
             phase: (!run.plan.phase.is_empty() && *plots != Plots::None)
                 .then(|| PhaseRecorder::new(&run.plan.phase, run.capacity)),
             dot: model.causal_graph().map(|g| g.to_dot()),
