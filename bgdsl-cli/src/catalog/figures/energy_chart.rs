@@ -102,7 +102,9 @@ pub(in crate::catalog) fn draw(
          integrated between samples by the corrected trapezoid rule (their rates of \
          change along the motion at both ends). At the end: ∫ P_in dt = {} J, \
          ∫ P_diss dt = {} J, E = {} J. The largest difference, {} J at t = {} s, is {:.1e} \
-         of the energy scale {} J: the solver's and the quadrature's error.",
+         of the energy scale {} J: the solver's error and the quadrature's between \
+         samples, which grows where the samples do not resolve the powers' changes (a \
+         sudden start); a finer sampling interval tells them apart.",
         sig(last(&balance.supplied)),
         sig(last(&balance.dissipated)),
         sig(last(&balance.stored)),
