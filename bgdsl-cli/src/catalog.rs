@@ -132,13 +132,11 @@ mod run;
 pub mod size;
 mod sweep;
 
-
-
 use bgdsl_runtime::{CausalGraph, ParameterInfo};
 use serde_yaml::Mapping;
 
 pub use checks::{Checks, Problem};
-pub use columns::{resolve_columns, write_units, Column};
+pub use columns::{column_unit, resolve_columns, units_path, write_units, Column};
 pub use entry::{Catalogue, Entry, EntryOf, UnknownModel};
 pub use extras::{ExtraRun, Extras, Finished, NoExtras, RunContext, Written};
 pub use figures::energy::{EnergyBalance, EnergyRecorder, FIGURE_ID as ENERGY_FIGURE_ID};
@@ -146,10 +144,10 @@ pub use figures::graph::{dot_svg, DotError, DOT_TIMEOUT};
 pub use figures::phase::{PhasePair, PhaseRecorder};
 pub use figures::plot_error;
 pub use figures::states::{state_groups, StateGroup, STATE_CHART_LIMIT};
-pub use params::{format_number, format_significant};
 pub use params::{
     describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
 };
+pub use params::{format_number, format_significant};
 pub use run::{
     create_dir as create_output_dir, initial_state, params_from, Observer, Outcome, Plots,
     RunError, RunPlan, Silent, SolverSettings,
