@@ -412,6 +412,7 @@ impl RunRecord {
         };
         let plots = match &plan.plots {
             Plots::None => Value::from("none"),
+            Plots::Only(ids) if ids.is_empty() => Value::from("none"),
             Plots::All => Value::from("all"),
             Plots::Only(ids) => {
                 Value::Sequence(ids.iter().map(|s| Value::from(s.as_str())).collect())

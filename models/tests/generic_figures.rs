@@ -184,3 +184,21 @@ fn a_sweep_refuses_phase_portraits() {
     );
     assert_eq!(files(&dir), ["sw.yaml"], "nothing written");
 }
+
+#[test]
+fn phase_portraits_alone() {
+    let dir = scratch("generic-phase-alone");
+    let text = "model: oscillator\nplots:\n  figures: none\n  phase: [[x, speed]]\n";
+    fs::write(dir.join("p.yaml"), text).unwrap();
+    let run = run_in(&dir, &["run", "p.yaml", "--out", "out"]);
+    assert_success(&run);
+    let images: Vec<String> = files(&dir.join("out"))
+        .into_iter()
+        .filter(|n| n.ends_with(".png") || n.ends_with(".svg"))
+        .collect();
+    assert_eq!(images, ["phase_x_speed.png", "phase_x_speed.svg"]);
+    // With --no-plots, none at all.
+    let run = run_in(&dir, &["run", "p.yaml", "--no-plots", "--out", "out"]);
+    assert_success(&run);
+    assert!(!files(&dir.join("out")).iter().any(|n| n.ends_with(".png")));
+}

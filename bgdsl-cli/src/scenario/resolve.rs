@@ -154,6 +154,11 @@ fn resolve_into(
     if scenario.sweep.is_none() {
         figures_draw_something(entry, scenario, &record, &plots, &places, d);
     }
+    // `figures: none` beside phase portraits: those only (an empty choice of figures).
+    let plots = match plots {
+        Plots::None if !phase.is_empty() && !overrides.no_plots => Plots::Only(Vec::new()),
+        plots => plots,
+    };
     let title = scenario
         .description
         .clone()
