@@ -37,9 +37,8 @@ impl<'a, M: FromParams> GenericRun<'a, M> {
         GenericRun {
             entry: run.entry,
             // Kept with plots off too: the summary's line needs it.
-            energy: generic.then(|| {
-                EnergyRecorder::new(M::from_params(model.params().clone()), run.capacity)
-            }),
+            energy: generic
+                .then(|| EnergyRecorder::new(M::from_params(model.params().clone()), run.capacity)),
             phase: (!run.plan.phase.is_empty() && *plots != Plots::None)
                 .then(|| PhaseRecorder::new(&run.plan.phase, run.capacity)),
             dot: model.causal_graph().map(|g| g.to_dot()),
