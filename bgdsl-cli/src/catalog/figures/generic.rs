@@ -1,9 +1,10 @@
 //! The generic figures' add-on to every run ([`super::super::addons`]): the energy
 //! recorder and its figure and summary line, the phase portraits asked for, and the
-//! causal graph's section of `index.html`. An entry whose extras draw figures of their
-//! own ([`Extras::figure_ids`](super::super::Extras::figure_ids), the quick return) gets
-//! no energy figure or line (its paper figures have their own balance); the graph and
-//! the phase portraits asked for are for every model.
+//! causal graph's section of `index.html`. An entry whose extras opt out of the generic
+//! figures ([`Extras::generic_figures`](super::super::Extras::generic_figures), by
+//! default when they draw their own, as the quick return's do) gets no energy figure
+//! or line (its paper figures have their own balance); the graph and the phase
+//! portraits asked for are for every model.
 
 use std::path::Path;
 
@@ -24,9 +25,10 @@ pub(in crate::catalog) struct GenericRun<'a, M: Model> {
     dot: Option<String>,
 }
 
-/// Whether the entry gets the generic figures (its extras draw none of their own).
+/// Whether the entry gets the generic figures
+/// ([`Extras::generic_figures`](super::super::Extras::generic_figures)).
 pub(in crate::catalog) fn generic_figures(entry: &Entry) -> bool {
-    entry.extras.figure_ids().is_none()
+    entry.extras.generic_figures()
 }
 
 impl<'a, M: FromParams> GenericRun<'a, M> {
