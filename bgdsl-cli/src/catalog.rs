@@ -24,14 +24,25 @@
 //!   `quick_return_extra.csv`); beside each, `<stem>.units.csv`: one row per column of
 //!   the results file (`column,unit,description`), the units and docs the model
 //!   declares (the results file's header row stays plain names);
-//! - the figures, unless plots are off, each as PNG and SVG: one chart per recorded
-//!   output against time, and the extras' own (the quick return's paper figures);
+//! - the figures, unless plots are off, each as PNG and SVG: the extras' own (the quick
+//!   return's paper figures), and for an entry whose extras draw none
+//!   ([`Extras::figure_ids`] is `None`) the generic ones: one chart per recorded output
+//!   against time (`<output>.png`); one per state, a vector's components together
+//!   (`state_<name>.png`; by default only for a model of at most
+//!   [`STATE_CHART_LIMIT`] states, else those `plots` names); the energy balance
+//!   (`energy_balance.png`, for a model with an energy account: the stored energy
+//!   against `E(t0) + ∫ supplied − ∫ dissipated + Σ ΔE_events`, and their difference,
+//!   [`EnergyBalance`]), with a line in the summary giving the largest difference
+//!   relative to the energy scale; and for any entry, the phase portraits asked for
+//!   (`phase_<x>_<y>.png`, [`PhasePair`]);
 //! - for a model with events, `events.csv` (one row per state an event changed, with
 //!   the event's time, name, values before and after, and energy change; see the
 //!   private `events` module), and the summary counts the events by name and sums
 //!   their energy; the extras are told each event's energy ([`ExtraRun::events`]);
-//! - `index.html`: the run's summary, the extras' HTML sections ([`ExtraRun::sections`])
-//!   and every figure it drew, self-contained;
+//! - `index.html`: the run's summary, the extras' HTML sections ([`ExtraRun::sections`];
+//!   for every model the causal bond graph, drawn by Graphviz's `dot` as inline SVG
+//!   when it is on the `PATH`, else its DOT text) and every figure it drew,
+//!   self-contained;
 //! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
 //!   sweep writes one too.
 //!
@@ -128,7 +139,11 @@ pub use checks::{Checks, Problem};
 pub use columns::{column_unit, resolve_columns, units_path, write_units, Column};
 pub use entry::{Catalogue, Entry, EntryOf, UnknownModel};
 pub use extras::{ExtraRun, Extras, Finished, NoExtras, RunContext, Written};
+pub use figures::energy::{EnergyBalance, EnergyRecorder, FIGURE_ID as ENERGY_FIGURE_ID};
+pub use figures::graph::{dot_svg, DotError, DOT_TIMEOUT};
+pub use figures::phase::{PhasePair, PhaseRecorder};
 pub use figures::plot_error;
+pub use figures::states::{state_groups, StateGroup, STATE_CHART_LIMIT};
 pub use params::{
     describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
 };

@@ -332,7 +332,8 @@ pub struct RunRecord {
     pub output: Output,
     /// The number of sample times.
     pub samples: usize,
-    /// `all`, `none` or the figures drawn.
+    /// `all`, `none` or the figures drawn; with phase portraits, the mapping
+    /// `{figures: .., phase: [[x, y], ..]}`.
     pub plots: Value,
     /// The solver.
     pub solver: SolverRecord,
@@ -411,10 +412,29 @@ impl RunRecord {
         };
         let plots = match &plan.plots {
             Plots::None => Value::from("none"),
+            Plots::Only(ids) if ids.is_empty() => Value::from("none"),
             Plots::All => Value::from("all"),
             Plots::Only(ids) => {
                 Value::Sequence(ids.iter().map(|s| Value::from(s.as_str())).collect())
             }
+        };
+        // With phase portraits, the mapping form a scenario writes them in.
+        let plots = if plan.phase.is_empty() {
+            plots
+        } else {
+            let pair = |p: &crate::catalog::PhasePair| {
+                Value::Sequence(vec![
+                    Value::from(p.x.0.as_str()),
+                    Value::from(p.y.0.as_str()),
+                ])
+            };
+            let mut map = Mapping::new();
+            map.insert(Value::from("figures"), plots);
+            map.insert(
+                Value::from("phase"),
+                Value::Sequence(plan.phase.iter().map(pair).collect()),
+            );
+            Value::Mapping(map)
         };
         Ok(RunRecord {
             program: context.program.clone(),

@@ -157,7 +157,7 @@ fn read_error(path: &Path, source: io::Error) -> PlotError {
 /// An SVG document as an element of an HTML page: from its `<svg` on (no XML
 /// declaration), without the `xmlns` attribute (HTML puts `<svg>` in the SVG namespace
 /// by itself).
-fn inline_svg(svg: &str) -> String {
+pub(crate) fn inline_svg(svg: &str) -> String {
     let start = svg.find("<svg").unwrap_or(0);
     let svg = &svg[start..];
     let Some(end) = svg.find('>') else {

@@ -2,6 +2,13 @@
 //! the sweep's charts (all with [`crate::plot`]), and `index.html` ([`crate::report`]).
 //! Every image is written in PNG and SVG.
 
+pub(super) mod energy;
+mod energy_chart;
+pub(super) mod generic;
+pub(super) mod graph;
+pub(super) mod phase;
+pub(super) mod states;
+
 use std::path::{Path, PathBuf};
 
 use super::columns::{column_unit, Table};
@@ -35,7 +42,7 @@ pub fn plot_error(e: PlotError) -> RunError {
 
 /// An error once a signal asked the program to stop ([`crate::interrupt`]): drawing
 /// stops between charts.
-fn stop_if_interrupted() -> Result<(), RunError> {
+pub(super) fn stop_if_interrupted() -> Result<(), RunError> {
     if crate::interrupt::requested() {
         Err(plot_error(PlotError::Interrupted))
     } else {
@@ -44,7 +51,7 @@ fn stop_if_interrupted() -> Result<(), RunError> {
 }
 
 /// A file name from a column name: letters, digits, `_` and `-` kept, the rest `_`.
-fn file_stem(name: &str) -> String {
+pub(super) fn file_stem(name: &str) -> String {
     name.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
@@ -57,7 +64,7 @@ fn file_stem(name: &str) -> String {
 }
 
 /// An axis label: `name (unit)`, or the bare name where the unit is not known.
-fn with_unit(name: &str, unit: &str) -> String {
+pub(super) fn with_unit(name: &str, unit: &str) -> String {
     if unit.is_empty() {
         name.to_owned()
     } else {
@@ -76,7 +83,8 @@ pub(super) fn trajectory(
     let mut drawn = Vec::new();
     for (name, values) in table.columns() {
         let wanted = match plots {
-            Plots::Only(ids) => ids.iter().any(|id| id == name),
+            // A state named in `plots` is drawn by `states`, not here.
+            Plots::Only(ids) => outputs.contains(&name) && ids.iter().any(|id| id == name),
             _ => outputs.contains(&name),
         };
         if !wanted || table.len() < 2 {

@@ -54,6 +54,8 @@ pub struct RunPlan {
     pub record: Option<Vec<(String, Column)>>,
     /// Which figures to draw.
     pub plots: Plots,
+    /// The phase portraits to draw (recorded whatever `record` says).
+    pub phase: Vec<super::PhasePair>,
     /// Where the files go.
     pub out_dir: PathBuf,
     /// The title of `index.html`.
@@ -516,6 +518,7 @@ fn draw(
     if let Some(table) = table {
         if entry.extras.generic_figures() {
             drawn.extend(figures::trajectory(entry, table, dir, &plan.plots)?);
+            drawn.extend(figures::states::draw(entry, table, dir, &plan.plots)?);
         } else if plan.record.is_none() {
             drawn.extend(figures::trajectory(entry, table, dir, &Plots::All)?);
         }

@@ -9,7 +9,8 @@
 //!                                         parameters with defaults, units and docs
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
 //!            [--solver NAME] [--rtol X] [--atol X] [--step X] [--max-steps N]
-//!            [--t-start X] [--t-end X] [--interval X] [--no-plots] [--yes]
+//!            [--t-start X] [--t-end X] [--interval X] [--no-plots] [--phase X,Y ...]
+//!            [--yes]
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -154,6 +155,10 @@ pub struct RunArgs {
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,
+    /// A phase portrait: two state or output names, e.g. `--phase x,speed`
+    /// (repeatable; beside the scenario's `plots: {phase: [[x, speed]]}`).
+    #[arg(long, value_name = "X,Y")]
+    pub phase: Vec<String>,
     /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
     /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
     /// without it the program asks at a terminal and refuses otherwise.

@@ -33,6 +33,7 @@ pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), F
         max_steps: args.max_steps,
         interval: args.interval,
         no_plots: args.no_plots,
+        phase: args.phase.clone(),
         out: args.out.clone(),
         command_line: std::env::args_os()
             .map(|a| a.to_string_lossy().into_owned())

@@ -25,6 +25,9 @@
 //!   # count: 5001                #   a number of samples (>= 2), ends included
 //!   record: [crank_angle, j01.spring.q]   # states and outputs to record
 //! plots: all                     # optional: all (default) | none | [fig05, fig07, ...]
+//! # plots:                       #   or a mapping:
+//! #   figures: [x, energy_balance]  # all | none | [ids], as above
+//! #   phase: [[x, speed]]        #   phase portraits: pairs of state or output names
 //! sweep:                         # optional: run a grid of points instead of one run
 //!   parameters:                  #   one or two scalar parameters
 //!     - name: w_drive
@@ -51,10 +54,18 @@
 //!   may write files of their own beside it, whatever `record` says (in `models`, the
 //!   quick return's spec file `quick_return.csv` with its 56 columns, the table then
 //!   named `quick_return_extra.csv`).
-//! - **`plots`** chooses figures by id: the names of recorded outputs (one chart each,
-//!   against time), or the ids of the extras' own figures
+//! - **`plots`** chooses figures by id: the ids of the extras' own figures
 //!   ([`Extras::figure_ids`](crate::catalog::Extras::figure_ids); in `models`, the quick
-//!   return's paper figures).
+//!   return's paper figures), or for other models the names of recorded outputs (one
+//!   chart each, against time), of states or vectors of states (one chart each, drawn
+//!   by default only for models of at most
+//!   [`STATE_CHART_LIMIT`](crate::catalog::STATE_CHART_LIMIT) states), and
+//!   `energy_balance`. In its mapping form, `figures` chooses them so and `phase`
+//!   lists phase portraits, each a pair `[x, y]` of state or output names (one
+//!   component, not a vector), drawn as `phase_<x>_<y>.png` for any model; a name's
+//!   error points at its pair (a flow list is not looked into, see [`locate`]).
+//!   `--phase X,Y` (repeatable) adds one; `--no-plots` draws none. A sweep draws
+//!   no phase portraits.
 //! - **`sweep`** runs every combination of the values of one or two parameters (the
 //!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
 //!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its
@@ -82,6 +93,7 @@
 
 mod diagnostic;
 pub mod locate;
+mod phase;
 mod resolve;
 mod schema;
 mod solver;

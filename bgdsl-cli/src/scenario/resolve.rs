@@ -48,6 +48,8 @@ pub struct Overrides {
     pub interval: Option<f64>,
     /// Draw no figures.
     pub no_plots: bool,
+    /// Phase portraits, each `X,Y` (`--phase`, repeatable).
+    pub phase: Vec<String>,
     /// The output directory (default: the rule of
     /// [`provenance::folder`](crate::provenance::folder)).
     pub out: Option<PathBuf>,
@@ -145,9 +147,18 @@ fn resolve_into(
     let solver = solver(entry, scenario, overrides, &places, d);
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
-    if scenario.sweep.is_none() {
-        figures_draw_something(entry, &record, &plots, &places, d);
+    let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
+    if scenario.sweep.is_some() {
+        super::phase::refuse_in_sweep(scenario, &overrides.phase, &places, d);
     }
+    if scenario.sweep.is_none() {
+        figures_draw_something(entry, scenario, &record, &plots, &places, d);
+    }
+    // `figures: none` beside phase portraits: those only (an empty choice of figures).
+    let plots = match plots {
+        Plots::None if !phase.is_empty() && !overrides.no_plots => Plots::Only(Vec::new()),
+        plots => plots,
+    };
     let title = scenario
         .description
         .clone()
@@ -170,6 +181,7 @@ fn resolve_into(
         solver,
         record: record.clone(),
         plots: plots.clone(),
+        phase: phase.clone(),
         out_dir: out_dir.clone(),
         title: title.clone(),
         context: context.clone(),
@@ -531,22 +543,20 @@ fn plots(
     if overrides.no_plots {
         return Plots::None;
     }
-    let Some(value) = &scenario.plots else {
+    let (value, path) = super::phase::figures_value(scenario);
+    let Some(value) = value else {
         return Plots::All;
     };
-    let origin = places.keys(&["plots"]);
+    let origin = places.file(&path);
     match value.as_str() {
         Some("all") => return Plots::All,
         Some("none") => return Plots::None,
         _ => {}
     }
-    let valid: Vec<String> = entry
-        .extras
-        .figure_ids()
-        .unwrap_or(entry.model.output_names())
-        .iter()
-        .map(|s| (*s).to_owned())
-        .collect();
+    let valid: Vec<String> = match entry.extras.figure_ids() {
+        Some(ids) => ids.iter().map(|s| (*s).to_owned()).collect(),
+        None => generic_figure_ids(entry),
+    };
     let Some(names) = plot_names(value) else {
         d.push(
             origin,
@@ -560,7 +570,7 @@ fn plots(
     for (i, name) in &names {
         if !valid.contains(name) {
             d.push(
-                places.file(&KeyPath::keys(&["plots"]).index(*i)),
+                places.file(&path.index(*i)),
                 format!(
                     "unknown figure `{name}`; the figures of {} are: {}",
                     entry.name,
@@ -572,19 +582,43 @@ fn plots(
     Plots::Only(names.into_values().collect())
 }
 
+/// The ids `plots` may name for an entry with the generic figures: each output, each
+/// state chart (a vector's name for its components, or a scalar state's), each state
+/// by name, and `energy_balance`.
+fn generic_figure_ids(entry: &Entry) -> Vec<String> {
+    let states = entry.model.state_names();
+    let groups = catalog::state_groups(states);
+    let mut ids: Vec<String> = entry
+        .model
+        .output_names()
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect();
+    for group in groups {
+        if group.members.len() > 1 {
+            ids.push(group.id);
+        }
+    }
+    ids.extend(states.iter().map(|s| (*s).to_owned()));
+    ids.push(catalog::ENERGY_FIGURE_ID.to_owned());
+    ids
+}
+
 /// Every figure asked for has something to draw: for a model whose extras draw no
 /// figures of their own, a chart is of a recorded output, so one of an output `record`
 /// leaves out, or `plots: all` when `record` names no output, would draw nothing.
 fn figures_draw_something(
     entry: &Entry,
+    scenario: &Scenario,
     record: &Option<Vec<(String, Column)>>,
     plots: &Plots,
     places: &Places<'_>,
     d: &mut Diagnostics,
 ) {
+    let path = super::phase::figures_value(scenario).1;
     if plots == &Plots::Only(Vec::new()) {
         d.push(
-            places.keys(&["plots"]),
+            places.file(&path),
             "`plots` lists no figure; write `plots: none` to draw none",
         );
     }
@@ -609,10 +643,18 @@ fn figures_draw_something(
             }
         }
         Plots::Only(ids) => {
+            let states = entry.model.state_names();
+            let groups = catalog::state_groups(states);
             for (i, id) in ids.iter().enumerate() {
-                if outputs.contains(&id.as_str()) && !recorded(id) {
+                // A state chart draws the recorded states of its group.
+                let group = groups
+                    .iter()
+                    .find(|g| g.id == *id || g.members.iter().any(|&m| states[m] == id));
+                let state_missing = !outputs.contains(&id.as_str())
+                    && group.is_some_and(|g| !g.members.iter().any(|&m| recorded(states[m])));
+                if (outputs.contains(&id.as_str()) && !recorded(id)) || state_missing {
                     d.push(
-                        places.file(&KeyPath::keys(&["plots"]).index(i)),
+                        places.file(&path.index(i)),
                         format!(
                             "figure `{id}` would draw nothing: `{id}` is not recorded; add \
                              it to `output.record`"
