@@ -14,10 +14,10 @@ use super::solver::{pick, solver};
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
-    self, format_number, format_value, parse_value, resolve_columns, set_parameter, Column, Entry,
-    Plots, ResultsKind, RunPlan, SweepPlan,
+    self, format_number, format_value, parse_value, resolve_columns, set_parameter, Catalogue,
+    Column, Entry, Plots, RunPlan, SweepPlan,
 };
-use crate::provenance::{folder, Context, Sampling};
+use crate::provenance::{folder, Context, Program, Sampling};
 
 /// The smallest and largest relative tolerance a scenario may ask for.
 pub const RTOL_RANGE: [f64; 2] = [1e-14, 1e-1];
@@ -100,13 +100,14 @@ impl Places<'_> {
 /// Every problem found (see the [module documentation](super)); nothing has been
 /// written.
 pub fn resolve(
+    catalogue: &'static Catalogue,
     source: Option<&Source>,
     scenario: &Scenario,
     overrides: &Overrides,
     name: &str,
 ) -> Result<Plan, Diagnostics> {
     let mut d = scenario.read_errors.clone();
-    let plan = resolve_into(source, scenario, overrides, name, &mut d);
+    let plan = resolve_into(catalogue, source, scenario, overrides, name, &mut d);
     match plan {
         Some(plan) if d.is_empty() => Ok(plan),
         _ => {
@@ -118,6 +119,7 @@ pub fn resolve(
 
 /// [`resolve`], with the diagnostics pushed into `d` as found.
 fn resolve_into(
+    catalogue: &'static Catalogue,
     source: Option<&Source>,
     scenario: &Scenario,
     overrides: &Overrides,
@@ -125,7 +127,7 @@ fn resolve_into(
     d: &mut Diagnostics,
 ) -> Option<Plan> {
     let places = Places { source };
-    let entry = match catalog::find(&scenario.model) {
+    let entry = match catalogue.find(&scenario.model) {
         Ok(entry) => entry,
         Err(e) => {
             let origin = match source {
@@ -159,6 +161,7 @@ fn resolve_into(
         sampling: sampling(entry, scenario, overrides),
         parameter_origins: origins.clone(),
         started: SystemTime::now(),
+        program: Program::of(catalogue),
     });
     let base = |times: Vec<f64>, solver: Solver| RunPlan {
         params: params.clone(),
@@ -175,7 +178,7 @@ fn resolve_into(
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
         (Some(spec), Some(times), solver) => {
             // A rejected solver is reported already; the sweep is checked all the same.
-            let plan = base(times, solver.unwrap_or_else(entry.solver));
+            let plan = base(times, solver.unwrap_or(entry.solver));
             match sweep(entry, spec, plan, &origins, &places, d) {
                 Some(sweep) if d.is_empty() => Job::Sweep(sweep),
                 _ => return None,
@@ -298,7 +301,7 @@ fn initial_conditions(
                 origin,
                 format!(
                     "unknown state `{name}`; {}",
-                    name_list("states", entry.name, states, "--states")
+                    name_list("states", &entry.name, states, "--states")
                 ),
             );
             continue;
@@ -477,7 +480,7 @@ pub(super) fn column(
     origin: Origin,
     d: &mut Diagnostics,
 ) -> Option<Vec<(String, Column)>> {
-    let found = resolve_columns(entry.model, name);
+    let found = resolve_columns(&*entry.model, name);
     if found.is_none() {
         let groups = output_groups(entry);
         d.push(
@@ -517,7 +520,7 @@ fn record(
     Some(columns)
 }
 
-/// `plots`, checked against the figure ids (quick return) or the outputs.
+/// `plots`, checked against the figure ids of the entry's extras, or the outputs.
 fn plots(
     entry: &Entry,
     scenario: &Scenario,
@@ -537,18 +540,13 @@ fn plots(
         Some("none") => return Plots::None,
         _ => {}
     }
-    let valid: Vec<String> = match entry.results {
-        ResultsKind::QuickReturn => catalog::figure_ids()
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect(),
-        ResultsKind::Trajectory => entry
-            .model
-            .output_names()
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect(),
-    };
+    let valid: Vec<String> = entry
+        .extras
+        .figure_ids()
+        .unwrap_or(entry.model.output_names())
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect();
     let Some(names) = plot_names(value) else {
         d.push(
             origin,
@@ -590,7 +588,7 @@ fn figures_draw_something(
             "`plots` lists no figure; write `plots: none` to draw none",
         );
     }
-    let (ResultsKind::Trajectory, Some(record)) = (entry.results, record) else {
+    let (None, Some(record)) = (entry.extras.figure_ids(), record) else {
         return;
     };
     let recorded = |name: &str| record.iter().any(|(n, _)| n == name);

@@ -328,7 +328,7 @@ pub fn run_sweep(
         std::slice::from_ref(&path),
         failure.as_deref(),
     )?;
-    figures::index(dir, &plan.base.title, &summary, &drawn)?;
+    figures::index(dir, &plan.base.title, &summary, &drawn, &[])?;
     let target = folder.commit(partial)?;
     let mut files = vec![path, target.join(provenance::FILE_NAME)];
     files.extend(drawn.iter().flat_map(|f| {
