@@ -128,6 +128,22 @@ const FRICTION_COLUMNS: &[&str] = &[
     "Ff_3C", "N_3C", "u_3C", "mode_3C", "Ff_5C", "N_5C", "u_5C", "mode_5C", "P_fric",
 ];
 
+/// The quick return's links as the animation draws them: boxes of the spec's edge
+/// lengths (Table 1) about each link's centre of mass.
+fn link_boxes(l: [[f64; 3]; 5]) -> Vec<(&'static str, bgdsl_cli::animation::Shape)> {
+    ["crank", "slider", "rocker", "rod", "output_slider"]
+        .into_iter()
+        .zip(l)
+        .map(|(name, size)| (name, bgdsl_cli::animation::Shape::Box { size }))
+        .collect()
+}
+
+/// The quick return's pivots on the ground: the crank's O1 at the origin, the
+/// rocker's O3 at (0, −d, 0).
+fn pivots(d: f64) -> Vec<[f64; 3]> {
+    vec![[0.0, 0.0, 0.0], [0.0, -d, 0.0]]
+}
+
 /// The `models` program's catalogue: every model, in the order `models list` prints
 /// them, the flagship first (what `models` runs without a command).
 pub fn catalogue() -> Catalogue {
@@ -151,6 +167,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturn::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(&[])
                 .extras(QuickReturnExtras::<QuickReturn>::new()),
         )
@@ -193,6 +211,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturnFriction::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(FRICTION_COLUMNS)
                 .extras(QuickReturnExtras::<QuickReturnFriction>::compared_with(
                     &WITHOUT_FRICTION,
@@ -209,6 +229,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturnEndStop::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(STOP_COLUMNS)
                 .extras(QuickReturnExtras::<QuickReturnEndStop>::compared_with(
                     &WITHOUT_STOP,

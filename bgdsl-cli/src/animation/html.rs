@@ -75,8 +75,8 @@ pub fn write_page(path: &Path, title: &str, scene: &Scene) -> io::Result<()> {
 }
 
 /// The scene as the player reads it: times, bodies (`p`: positions, `r`: orientations
-/// column by column, both flat), angle, ground points and view. Positions carry six
-/// significant digits of the scene's extent, orientations five decimals: far below a
+/// column by column, both flat), angle, ground points and view. Positions carry five
+/// significant digits of the scene's extent, orientations four decimals: far below a
 /// pixel, and a few hundred kilobytes for 2000 frames of five bodies.
 fn scene_json(scene: &Scene) -> String {
     let extent = scene
@@ -88,7 +88,7 @@ fn scene_json(scene: &Scene) -> String {
             0.0_f64,
             |m, v| if v.is_finite() { m.max(v.abs()) } else { m },
         );
-    let position_decimals = decimals(extent, 6);
+    let position_decimals = decimals(extent, 5);
     let mut out = String::from("{\"times\":");
     numbers(&mut out, scene.times.iter().copied(), None);
     out.push_str(",\"bodies\":[");
@@ -124,7 +124,7 @@ fn scene_json(scene: &Scene) -> String {
         numbers(
             &mut out,
             body.orientation.iter().flatten().copied(),
-            Some(5),
+            Some(4),
         );
         out.push('}');
     }
@@ -242,7 +242,7 @@ mod should {
             shape: Shape::Box {
                 size: [0.2, 0.01, 0.01],
             },
-            position: vec![[0.1, 0.0, 0.0], [0.0, 0.1, f64::NAN]],
+            position: vec![[0.123_456_7, 0.0, 0.0], [0.0, 0.1, f64::NAN]],
             orientation: vec![[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]; 2],
         };
         Scene::new(vec![0.0, 0.5], vec![body]).with_angle("crank angle", vec![90.0, 118.6479])
@@ -251,8 +251,8 @@ mod should {
     #[test]
     fn write_numbers_to_their_precision_and_null_for_nan() {
         let json = scene_json(&scene());
-        // extent 0.1: six significant digits are 6 decimals; trailing zeros go.
-        assert!(json.contains("\"p\":[0.1,0,0,0,0.1,null]"), "{json}");
+        // Extent 0.12: five significant digits are 5 decimals; trailing zeros go.
+        assert!(json.contains("\"p\":[0.12346,0,0,0,0.1,null]"), "{json}");
         assert!(json.contains("\"deg\":[90,118.65]"), "{json}");
         assert!(json.contains("\"times\":[0,0.5]"), "{json}");
         assert!(

@@ -14,11 +14,15 @@
 //! its own. A page opened as `page.html#t=0.3` starts paused at t = 0.3 s (a still for a
 //! document or a test).
 
+mod addon;
 mod html;
+mod look;
 mod recorder;
 mod view;
 
+pub use addon::{start, AnimationRun};
 pub use html::{section, write_page, SECTION_ID};
+pub use look::{GroundFn, Look, ShapesFn};
 pub use recorder::{BodyRecorder, MAX_FRAMES};
 pub use view::View;
 

@@ -111,12 +111,12 @@
     if (!(hi[0] > lo[0])) { lo[0] -= 0.5; hi[0] += 0.5; }
     if (!(hi[1] > lo[1])) { lo[1] -= 0.5; hi[1] += 0.5; }
     if (!(radius > 0)) radius = 1;
-    var aspect = plane ? Math.min(1, Math.max(0.35, (hi[1] - lo[1]) / (hi[0] - lo[0]))) : 0.75;
+    var aspect = plane ? Math.min(1.5, Math.max(0.35, (hi[1] - lo[1]) / (hi[0] - lo[0]))) : 0.75;
 
     var width = 0, height = 0, scale = 1, offset = [0, 0];
     function layout() {
       width = Math.min(960, Math.max(200, root.clientWidth || 800));
-      height = Math.round(width * aspect);
+      height = Math.min(560, Math.round(width * aspect));
       var ratio = window.devicePixelRatio || 1;
       canvas.width = Math.round(width * ratio);
       canvas.height = Math.round(height * ratio);

@@ -7,15 +7,18 @@ use bgdsl_runtime::Model;
 use super::extras::{ExtraRun, RunContext};
 use super::RunError;
 
-/// The add-ons of one run of `model` (none yet).
+/// The add-ons of one run of `model`: the animation of its bodies, if it has any.
 ///
 /// # Errors
 ///
 /// [`RunError`] when an add-on cannot start.
-pub(super) fn start<'a, M: Model>(
+pub(super) fn start<'a, M: Model + 'static>(
     model: &'a M,
     run: &RunContext<'a>,
 ) -> Result<Vec<Box<dyn ExtraRun + 'a>>, RunError> {
-    let _ = (model, run);
-    Ok(Vec::new())
+    let mut addons: Vec<Box<dyn ExtraRun + 'a>> = Vec::new();
+    if let Some(animation) = crate::animation::start(model, run.entry) {
+        addons.push(Box::new(animation));
+    }
+    Ok(addons)
 }
