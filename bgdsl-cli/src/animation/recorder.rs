@@ -112,7 +112,7 @@ impl Recorder for BodyRecorder {
             .map(|b| (b.position_of(x), b.orientation_of(x)))
             .collect();
         let angle = self.angle.as_ref().and_then(|(i, _)| y.get(*i).copied());
-        if k % self.stride != 0 {
+        if !k.is_multiple_of(self.stride) {
             self.last = Some((t, bodies, angle));
             return;
         }
