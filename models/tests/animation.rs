@@ -19,7 +19,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use bgdsl_cli::animation::{write_page, BodyRecorder, Scene, Shape, View};
+use bgdsl_cli::animation::{write_page, BodyRecorder, BodyTrack, Scene, Shape, View};
 use bgdsl_runtime::{Model, Simulation};
 use models::catalog::flagship_solver;
 use models::quick_return::QuickReturn;
@@ -69,6 +69,11 @@ const WINDOW: &str = "--window-size=1000,800";
 
 /// Chromium's DOM of `page` at `#t=…` after its scripts ran, and its stderr.
 fn dump_dom(browser: &Path, page: &Path, t: f64) -> (String, String) {
+    dump_dom_at(browser, page, &format!("t={t}"))
+}
+
+/// Chromium's DOM of `page` at `#fragment` after its scripts ran, and its stderr.
+fn dump_dom_at(browser: &Path, page: &Path, fragment: &str) -> (String, String) {
     let out = Command::new(browser)
         .args([
             "--headless",
@@ -80,7 +85,7 @@ fn dump_dom(browser: &Path, page: &Path, t: f64) -> (String, String) {
             "--v=0",
             "--dump-dom",
         ])
-        .arg(format!("file://{}#t={t}", page.display()))
+        .arg(format!("file://{}#{fragment}", page.display()))
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");
@@ -92,6 +97,11 @@ fn dump_dom(browser: &Path, page: &Path, t: f64) -> (String, String) {
 
 /// A screenshot of `page` at `#t=…`, as (width, RGB rows).
 fn screenshot(browser: &Path, page: &Path, t: f64, png: &Path) -> (usize, Vec<u8>) {
+    screenshot_at(browser, page, &format!("t={t}"), png)
+}
+
+/// A screenshot of `page` at `#fragment`, as (width, RGB rows).
+fn screenshot_at(browser: &Path, page: &Path, fragment: &str, png: &Path) -> (usize, Vec<u8>) {
     let status = Command::new(browser)
         .args([
             "--headless",
@@ -102,7 +112,7 @@ fn screenshot(browser: &Path, page: &Path, t: f64, png: &Path) -> (usize, Vec<u8
             WINDOW,
         ])
         .arg(format!("--screenshot={}", png.display()))
-        .arg(format!("file://{}#t={t}", page.display()))
+        .arg(format!("file://{}#{fragment}", page.display()))
         .output()
         .unwrap();
     assert!(status.status.success(), "{status:?}");
@@ -205,16 +215,8 @@ fn load_without_errors_and_move_the_links_between_two_stills() {
 
     let (dom_a, stderr_a) = dump_dom(&browser, &page, t_a);
     let (dom_b, stderr_b) = dump_dom(&browser, &page, t_b);
-    for (dom, stderr) in [(&dom_a, &stderr_a), (&dom_b, &stderr_b)] {
-        let console: Vec<&str> = stderr.lines().filter(|l| l.contains(":CONSOLE")).collect();
-        assert!(console.is_empty(), "console messages: {console:#?}");
-        assert_eq!(section_attribute(dom, "data-ready").as_deref(), Some("1"));
-        assert!(
-            dom.contains("<pre class=\"errors\" hidden=\"\"></pre>"),
-            "the player reported errors: {}",
-            &dom[dom.find("<pre class=\"errors\"").unwrap()..][..400]
-        );
-    }
+    assert_loaded_cleanly(&dom_a, &stderr_a);
+    assert_loaded_cleanly(&dom_b, &stderr_b);
     // The player stopped at the frame of each time (one per ms).
     assert_eq!(
         section_attribute(&dom_a, "data-frame").as_deref(),
@@ -266,6 +268,89 @@ fn load_without_errors_and_move_the_links_between_two_stills() {
         );
         assert_eq!((differ, all), (0, 25), "at the pivot {pivot:?}");
     }
+}
+
+/// The errors a page reported: its console messages on stderr, its `.errors` block,
+/// a player that never finished drawing.
+fn assert_loaded_cleanly(dom: &str, stderr: &str) {
+    let console: Vec<&str> = stderr.lines().filter(|l| l.contains(":CONSOLE")).collect();
+    assert!(console.is_empty(), "console messages: {console:#?}");
+    assert_eq!(section_attribute(dom, "data-ready").as_deref(), Some("1"));
+    assert!(
+        dom.contains("<pre class=\"errors\" hidden=\"\"></pre>"),
+        "the player reported errors: {}",
+        &dom[dom.find("<pre class=\"errors\"").unwrap()..][..400]
+    );
+}
+
+/// A box tumbling about a tilted axis while its centre climbs a helix: no plane holds
+/// it, so the page shows it in 3-D, and turning the view (`yaw` in the address, as a
+/// drag does) moves it on the screen.
+#[test]
+fn turn_a_3d_scene_with_the_view() {
+    let Some(browser) = chromium() else {
+        eprintln!("SKIPPED: chromium is not installed (apt-get install chromium)");
+        return;
+    };
+    let times: Vec<f64> = (0..=100).map(|k| 0.01 * k as f64).collect();
+    let axis = [0.6_f64, 0.0, 0.8];
+    let orientation = times
+        .iter()
+        .map(|t| {
+            // Rodrigues: R = I + sin a K + (1 - cos a) K², K the axis' cross matrix.
+            let (s, c) = (3.0 * t).sin_cos();
+            let [x, y, z] = axis;
+            let k = [[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]];
+            let mut r = [0.0; 9];
+            for col in 0..3 {
+                for row in 0..3 {
+                    let k2: f64 = (0..3).map(|m| k[row][m] * k[m][col]).sum();
+                    let id = if row == col { 1.0 } else { 0.0 };
+                    r[3 * col + row] = id + s * k[row][col] + (1.0 - c) * k2;
+                }
+            }
+            r
+        })
+        .collect();
+    let position = times
+        .iter()
+        .map(|t| [0.3 * (4.0 * t).cos(), 0.3 * (4.0 * t).sin(), 0.2 * t])
+        .collect();
+    let body = BodyTrack {
+        name: "tumbler".into(),
+        shape: Shape::Box {
+            size: [0.3, 0.1, 0.05],
+        },
+        position,
+        orientation,
+    };
+    let scene = Scene::new(times, vec![body]);
+    assert_eq!(scene.view, View::Orbit);
+    let dir = scratch("orbit");
+    let page = dir.join("tumbler.html");
+    write_page(&page, "A tumbling box", &scene).unwrap();
+
+    let (dom_0, stderr_0) = dump_dom_at(&browser, &page, "t=0.5&yaw=0");
+    let (dom_1, stderr_1) = dump_dom_at(&browser, &page, "t=0.5&yaw=1.2");
+    assert_loaded_cleanly(&dom_0, &stderr_0);
+    assert_loaded_cleanly(&dom_1, &stderr_1);
+    assert!(dom_0.contains("Drag the picture to turn it."));
+    let canvas = numbers(&section_attribute(&dom_0, "data-canvas").unwrap());
+    let centre_0 = numbers(&section_attribute(&dom_0, "data-centres").unwrap());
+    let centre_1 = numbers(&section_attribute(&dom_1, "data-centres").unwrap());
+    let moved = ((centre_0[0] - centre_1[0]).powi(2) + (centre_0[1] - centre_1[1]).powi(2)).sqrt();
+    assert!(moved > 20.0, "turning the view moved the box {moved} px");
+
+    let still_0 = screenshot_at(&browser, &page, "t=0.5&yaw=0", &dir.join("yaw0.png"));
+    let again = screenshot_at(&browser, &page, "t=0.5&yaw=0", &dir.join("yaw0-again.png"));
+    let still_1 = screenshot_at(&browser, &page, "t=0.5&yaw=1.2", &dir.join("yaw1.png"));
+    assert_eq!(still_0, again, "the same still twice is the same picture");
+    let (x, y) = (canvas[0] + centre_0[0], canvas[1] + centre_0[1]);
+    let (differ, all) = differing(&still_0, &still_1, x, y, 3);
+    assert!(
+        differ * 2 > all,
+        "{differ} of {all} pixels differ at the box"
+    );
 }
 
 /// The program's run of a model with bodies has the animation in its index.html, with

@@ -12,7 +12,7 @@
 //! The view is a plane when the motion is planar ([`View::choose`]), seen face on; else
 //! a 3-D view the reader turns by dragging. [`write_page`] writes a scene as a page of
 //! its own. A page opened as `page.html#t=0.3` starts paused at t = 0.3 s (a still for a
-//! document or a test).
+//! document or a test); `&yaw=0.5&pitch=0.2` (radians) turns the 3-D view.
 
 mod addon;
 mod html;

@@ -39,7 +39,12 @@
     var colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
       "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"];
     var plane = scene.view !== "orbit" ? scene.view.plane : null;
-    var yaw = -0.6, pitch = 0.35;
+    // The address may set the 3-D view's turn: `#t=0.3&yaw=0.5&pitch=0.2` (radians).
+    function fromHash(key, fallback) {
+      var m = new RegExp("(?:^#|&)" + key + "=([0-9.eE+-]+)").exec(window.location.hash);
+      return m && isFinite(Number(m[1])) ? Number(m[1]) : fallback;
+    }
+    var yaw = fromHash("yaw", -0.6), pitch = fromHash("pitch", 0.35);
 
     scene.bodies.forEach(function (body, i) {
       var item = document.createElement("li");
@@ -214,6 +219,7 @@
         ctx.fill();
         ctx.stroke();
       });
+      axes();
       scrub.value = k;
       timeOut.textContent = "t = " + times[k].toFixed(3) + " s";
       if (scene.angle) {
@@ -225,6 +231,29 @@
       root.dataset.canvas = JSON.stringify([rect.left + window.scrollX, rect.top + window.scrollY]);
       root.dataset.centres = JSON.stringify(centres);
       root.dataset.ground = JSON.stringify(scene.ground.map(pixel));
+    }
+
+    // Frame 0's axes in the lower left corner, as the view shows them (an axis seen
+    // end-on is left out).
+    function axes() {
+      var o = [36, height - 36];
+      var names = ["X0", "Y0", "Z0"];
+      ctx.font = "12px sans-serif";
+      ctx.lineWidth = 1.5;
+      ctx.strokeStyle = "#555";
+      ctx.fillStyle = "#555";
+      for (var a = 0; a < 3; a++) {
+        var e = [0, 0, 0];
+        e[a] = 1;
+        var s = project(e);
+        if (Math.hypot(s[0], s[1]) < 0.2) continue;
+        var tip = [o[0] + 24 * s[0], o[1] - 24 * s[1]];
+        ctx.beginPath();
+        ctx.moveTo(o[0], o[1]);
+        ctx.lineTo(tip[0], tip[1]);
+        ctx.stroke();
+        ctx.fillText(names[a], o[0] + 30 * s[0] - 7, o[1] - 30 * s[1] + 4);
+      }
     }
 
     // The frame shown at time t: the last one at or before it.
@@ -280,9 +309,9 @@
 
     layout();
     // `#t=0.3` in the address: a still at that time, paused.
-    var still = /(?:^#|&)t=([0-9.eE+-]+)/.exec(window.location.hash);
-    if (still) {
-      simTime = Number(still[1]);
+    var still = fromHash("t", null);
+    if (still !== null) {
+      simTime = still;
       draw(frameAt(simTime));
       setPlaying(false);
     } else {
