@@ -354,7 +354,7 @@ fn turn_a_3d_scene_with_the_view() {
 }
 
 /// The program's run of a model with bodies has the animation in its index.html, with
-/// the links as boxes; a model without bodies has none.
+/// the links as boxes, the pivots and the crank angle; a model without bodies has none.
 #[test]
 fn give_a_run_with_bodies_its_animation_section() {
     let dir = scratch("program");
@@ -367,11 +367,24 @@ fn give_a_run_with_bodies_its_animation_section() {
         assert!(out.status.success(), "{out:?}");
         fs::read_to_string(dir.join(model).join("index.html")).unwrap()
     };
-    let index = run("quick_return");
-    assert_eq!(index.matches("<section id=\"bgdsl-animation\"").count(), 1);
-    assert!(index.contains("\"name\":\"rocker\",\"shape\":{\"box\":[0.7,0.01,0.01]}"));
-    assert!(index.contains("\"angle\":{\"label\":\"crank angle\""));
-    assert!(index.contains("\"ground\":[[0,0,0],[0,-0.4,0]]"));
+    // The compliant flagship (its BODIES) and the rigid one (posed by its entry from
+    // its crank angle): the crank starts at θ0 = π/2, its centre at (0, 0.1, 0).
+    for model in ["quick_return", "quick_return_rigid"] {
+        let index = run(model);
+        assert_eq!(
+            index.matches("<section id=\"bgdsl-animation\"").count(),
+            1,
+            "{model}"
+        );
+        assert!(
+            index
+                .contains("\"name\":\"crank\",\"shape\":{\"box\":[0.2,0.01,0.01]},\"p\":[0,0.1,0,"),
+            "{model}"
+        );
+        assert!(index.contains("\"name\":\"rocker\",\"shape\":{\"box\":[0.7,0.01,0.01]}"));
+        assert!(index.contains("\"angle\":{\"label\":\"crank angle\""));
+        assert!(index.contains("\"ground\":[[0,0,0],[0,-0.4,0]]"));
+    }
     assert!(!run("oscillator").contains("bgdsl-animation"));
 }
 

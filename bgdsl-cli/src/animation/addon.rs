@@ -3,12 +3,15 @@
 
 use bgdsl_runtime::{Model, Recorder};
 
-use super::{section, BodyRecorder, Look, Shape};
+use super::{section, BodyPose, BodyRecorder, Look, Shape};
 use crate::catalog::{Entry, ExtraRun};
 
 /// One run's animation: the bodies' poses as the run goes, the section at the end.
-pub struct AnimationRun {
+pub struct AnimationRun<'a> {
     recorder: BodyRecorder,
+    /// The entry's poses of bodies the model does not list, with the parameters.
+    computed: Option<Box<dyn Fn(f64, &[f64], &[f64]) -> Vec<BodyPose> + 'a>>,
+    angle: Option<usize>,
     shapes: Vec<(&'static str, Shape)>,
     ground: Vec<[f64; 3]>,
 }
@@ -22,42 +25,56 @@ fn angle_output<M: Model>() -> Option<(usize, String)> {
         .map(|i| (i, M::OUTPUTS[i].name.replace(['_', '.'], " ")))
 }
 
-/// The animation of a run of `model` (an entry `entry` of the catalogue), or `None` for
-/// a model without bodies.
-pub fn start<M: Model + 'static>(model: &M, entry: &Entry) -> Option<AnimationRun> {
-    if M::BODIES.is_empty() {
-        return None;
-    }
+/// The animation of a run of `model` (an entry `entry` of the catalogue): of its
+/// [`Model::BODIES`], else of the bodies the entry poses
+/// ([`EntryOf::poses`](crate::catalog::EntryOf::poses)); `None` when it has neither.
+pub fn start<'a, M: Model + 'static>(model: &'a M, entry: &Entry) -> Option<AnimationRun<'a>> {
     let look = entry
         .look
         .as_ref()
         .and_then(|look| look.downcast_ref::<Look<M::Params>>());
-    let shapes = look
-        .and_then(|l| l.shapes)
-        .map(|f| f(model.params()))
-        .unwrap_or_default();
-    let ground = look
-        .and_then(|l| l.ground)
-        .map(|f| f(model.params()))
-        .unwrap_or_default();
-    let mut recorder = BodyRecorder::new(M::BODIES);
-    if let Some((index, label)) = angle_output::<M>() {
-        recorder = recorder.with_angle(index, &label);
+    let params = model.params();
+    let (mut recorder, computed) = match look.and_then(|l| l.poses) {
+        _ if !M::BODIES.is_empty() => (BodyRecorder::new(M::BODIES), None),
+        Some((names, poses)) => {
+            let computed: Box<dyn Fn(f64, &[f64], &[f64]) -> Vec<BodyPose> + 'a> =
+                Box::new(move |t, x, y| poses(params, t, x, y));
+            (BodyRecorder::named(names), Some(computed))
+        }
+        None => return None,
+    };
+    let angle = angle_output::<M>();
+    if let Some((index, label)) = &angle {
+        recorder = recorder.with_angle(*index, label);
     }
     Some(AnimationRun {
         recorder,
-        shapes,
-        ground,
+        computed,
+        angle: angle.map(|(index, _)| index),
+        shapes: look
+            .and_then(|l| l.shapes)
+            .map(|f| f(params))
+            .unwrap_or_default(),
+        ground: look
+            .and_then(|l| l.ground)
+            .map(|f| f(params))
+            .unwrap_or_default(),
     })
 }
 
-impl Recorder for AnimationRun {
+impl Recorder for AnimationRun<'_> {
     fn record(&mut self, t: f64, x: &[f64], y: &[f64]) {
-        self.recorder.record(t, x, y);
+        match &self.computed {
+            None => self.recorder.record(t, x, y),
+            Some(poses) => {
+                let angle = self.angle.and_then(|i| y.get(i).copied());
+                self.recorder.record_poses(t, poses(t, x, y), angle);
+            }
+        }
     }
 }
 
-impl ExtraRun for AnimationRun {
+impl ExtraRun for AnimationRun<'_> {
     fn sections(&self) -> Vec<String> {
         if self.recorder.frames() == 0 {
             return Vec::new();

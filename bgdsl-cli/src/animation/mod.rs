@@ -22,8 +22,8 @@ mod view;
 
 pub use addon::{start, AnimationRun};
 pub use html::{section, write_page, SECTION_ID};
-pub use look::{GroundFn, Look, ShapesFn};
-pub use recorder::{BodyRecorder, MAX_FRAMES};
+pub use look::{GroundFn, Look, PosesFn, ShapesFn};
+pub use recorder::{BodyPose, BodyRecorder, MAX_FRAMES};
 pub use view::View;
 
 /// How a body is drawn, in its own frame with the origin at its centre of mass.

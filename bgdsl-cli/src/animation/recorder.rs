@@ -13,8 +13,14 @@ pub const MAX_FRAMES: usize = 2000;
 /// drops every other frame kept and from then on keeps every other sample of those it
 /// kept before (so the frames stay evenly spaced whatever the run's length, which it
 /// need not know). The run's last sample is always kept.
+///
+/// It reads the poses from the state through the bodies' [`BodyInfo`], or is handed
+/// them ([`BodyRecorder::named`], [`BodyRecorder::record_poses`]) for a model whose
+/// bodies' poses follow from its state otherwise (the rigid quick return's from its
+/// crank angle).
 #[derive(Clone, Debug)]
 pub struct BodyRecorder {
+    names: Vec<String>,
     bodies: &'static [BodyInfo],
     angle: Option<(usize, String)>,
     max_frames: usize,
@@ -32,8 +38,11 @@ struct Pose {
     angle: Option<f64>,
 }
 
-/// One body's position and orientation.
-type Pose1 = ([f64; 3], [f64; 9]);
+/// One body's pose: its centre of mass in frame 0 and its orientation, column by
+/// column.
+pub type BodyPose = ([f64; 3], [f64; 9]);
+
+type Pose1 = BodyPose;
 
 impl BodyRecorder {
     /// A recorder of `bodies` (a model's [`Model::BODIES`](bgdsl_runtime::Model::BODIES))
@@ -45,6 +54,7 @@ impl BodyRecorder {
     /// A recorder keeping at most `max_frames` frames (at least 2).
     pub fn with_max_frames(bodies: &'static [BodyInfo], max_frames: usize) -> Self {
         BodyRecorder {
+            names: bodies.iter().map(|b| b.name.to_string()).collect(),
             bodies,
             angle: None,
             max_frames: max_frames.max(2),
@@ -53,6 +63,45 @@ impl BodyRecorder {
             times: Vec::new(),
             poses: Vec::new(),
             last: None,
+        }
+    }
+
+    /// A recorder of bodies called `names` whose poses it is handed, in that order, by
+    /// [`BodyRecorder::record_poses`] (as a [`Recorder`] it keeps nothing).
+    pub fn named(names: &[&str]) -> Self {
+        let mut recorder = BodyRecorder::new(&[]);
+        recorder.names = names.iter().map(|n| n.to_string()).collect();
+        recorder
+    }
+
+    /// Keeps the sample at `t` with the bodies' `poses` (one per name, in order) and
+    /// the angle in radians, evenly spaced as [`BodyRecorder`] says.
+    pub fn record_poses(&mut self, t: f64, poses: Vec<BodyPose>, angle: Option<f64>) {
+        let k = self.seen;
+        self.seen += 1;
+        if !k.is_multiple_of(self.stride) {
+            self.last = Some((t, poses, angle));
+            return;
+        }
+        self.last = None;
+        self.times.push(t);
+        self.poses.push(Pose {
+            bodies: poses,
+            angle,
+        });
+        if self.times.len() > self.max_frames {
+            // Keep frames 0, 2, 4, …: the samples at multiples of the doubled stride.
+            let mut index = 0;
+            self.times.retain(|_| {
+                index += 1;
+                index % 2 == 1
+            });
+            let mut index = 0;
+            self.poses.retain(|_| {
+                index += 1;
+                index % 2 == 1
+            });
+            self.stride *= 2;
         }
     }
 
@@ -77,12 +126,13 @@ impl BodyRecorder {
             }
         }
         let tracks = self
-            .bodies
+            .names
             .iter()
             .enumerate()
-            .map(|(i, info)| BodyTrack {
-                name: info.name.to_string(),
-                shape: shape(info.name).unwrap_or(Shape::Marker),
+            .filter(|(i, _)| self.poses.iter().all(|p| p.bodies.len() > *i))
+            .map(|(i, name)| BodyTrack {
+                name: name.clone(),
+                shape: shape(name).unwrap_or(Shape::Marker),
                 position: self.poses.iter().map(|p| p.bodies[i].0).collect(),
                 orientation: self.poses.iter().map(|p| p.bodies[i].1).collect(),
             })
@@ -104,35 +154,13 @@ impl BodyRecorder {
 
 impl Recorder for BodyRecorder {
     fn record(&mut self, t: f64, x: &[f64], y: &[f64]) {
-        let k = self.seen;
-        self.seen += 1;
-        let bodies: Vec<Pose1> = self
+        let poses = self
             .bodies
             .iter()
             .map(|b| (b.position_of(x), b.orientation_of(x)))
             .collect();
         let angle = self.angle.as_ref().and_then(|(i, _)| y.get(*i).copied());
-        if !k.is_multiple_of(self.stride) {
-            self.last = Some((t, bodies, angle));
-            return;
-        }
-        self.last = None;
-        self.times.push(t);
-        self.poses.push(Pose { bodies, angle });
-        if self.times.len() > self.max_frames {
-            // Keep frames 0, 2, 4, …: the samples at multiples of the doubled stride.
-            let mut index = 0;
-            self.times.retain(|_| {
-                index += 1;
-                index % 2 == 1
-            });
-            let mut index = 0;
-            self.poses.retain(|_| {
-                index += 1;
-                index % 2 == 1
-            });
-            self.stride *= 2;
-        }
+        self.record_poses(t, poses, angle);
     }
 }
 
@@ -157,6 +185,30 @@ mod should {
             recorder.record(t, &x, &[core::f64::consts::PI * k as f64]);
         }
         recorder.into_scene(|_| None)
+    }
+
+    #[test]
+    fn take_poses_handed_and_leave_out_a_body_without_them() {
+        let pose = |x: f64| ([x, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let mut recorder = BodyRecorder::named(&["a", "b"]).with_angle(7, "θ");
+        for k in 0..3 {
+            let t = k as f64;
+            recorder.record_poses(t, vec![pose(t), pose(-t)], Some(t));
+        }
+        let scene = recorder.clone().into_scene(|_| None);
+        assert_eq!(scene.bodies.len(), 2);
+        assert_eq!(scene.bodies[1].position[2], [-2.0, 0.0, 0.0]);
+        assert_eq!(scene.angle.unwrap().1[1], 1.0_f64.to_degrees());
+        // A sample that poses only the first body: the second has no track.
+        recorder.record_poses(3.0, vec![pose(3.0)], None);
+        let scene = recorder.into_scene(|_| None);
+        let names: Vec<&str> = scene.bodies.iter().map(|b| b.name.as_str()).collect();
+        assert_eq!(names, ["a"]);
+        assert_eq!(scene.times.len(), 4);
+        assert!(
+            scene.angle.is_none(),
+            "an angle missing at a frame is not shown"
+        );
     }
 
     #[test]

@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::adapter::Adapter;
 use super::extras::{Extras, NoExtras};
 use super::{CatalogModel, Checks};
-use crate::animation::{GroundFn, Look, ShapesFn};
+use crate::animation::{GroundFn, Look, PosesFn, ShapesFn};
 
 /// The physical checks of a model's parameters: records in `checks` every value that
 /// makes no physical sense (a mass of zero, a negative stiffness).
@@ -38,7 +38,8 @@ pub struct Entry {
     /// What a run writes and draws beyond the generic files ([`Extras`]).
     pub extras: Box<dyn Extras>,
     /// How the animation draws the model's bodies: a [`Look`]`<M::Params>` set by
-    /// [`EntryOf::shapes`] and [`EntryOf::ground`], `None` for markers and no ground.
+    /// [`EntryOf::shapes`], [`EntryOf::ground`] and [`EntryOf::poses`], `None` for
+    /// markers, no ground and only the model's `BODIES`.
     pub look: Option<Box<dyn Any + Send + Sync>>,
 }
 
@@ -161,6 +162,15 @@ where
     /// parameters.
     pub fn ground(mut self, ground: GroundFn<M::Params>) -> Self {
         self.look.ground = Some(ground);
+        self
+    }
+
+    /// Bodies the animation draws although the model does not list them in
+    /// [`Model::BODIES`](bgdsl_runtime::Model::BODIES) (it has no `RigidBody`):
+    /// `names`, and their poses at each sample from `poses(params, t, x, y)`, one per
+    /// name. Ignored for a model with `BODIES`.
+    pub fn poses(mut self, names: &'static [&'static str], poses: PosesFn<M::Params>) -> Self {
+        self.look.poses = Some((names, poses));
         self
     }
 }
