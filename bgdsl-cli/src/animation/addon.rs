@@ -6,11 +6,14 @@ use bgdsl_runtime::{Model, Recorder};
 use super::{section, BodyPose, BodyRecorder, Look, Shape};
 use crate::catalog::{Entry, ExtraRun};
 
+/// Poses of bodies at a sample `(t, x, y)`, the parameters bound.
+type Posing<'a> = Box<dyn Fn(f64, &[f64], &[f64]) -> Vec<BodyPose> + 'a>;
+
 /// One run's animation: the bodies' poses as the run goes, the section at the end.
 pub struct AnimationRun<'a> {
     recorder: BodyRecorder,
     /// The entry's poses of bodies the model does not list, with the parameters.
-    computed: Option<Box<dyn Fn(f64, &[f64], &[f64]) -> Vec<BodyPose> + 'a>>,
+    computed: Option<Posing<'a>>,
     angle: Option<usize>,
     shapes: Vec<(&'static str, Shape)>,
     ground: Vec<[f64; 3]>,
@@ -37,8 +40,7 @@ pub fn start<'a, M: Model + 'static>(model: &'a M, entry: &Entry) -> Option<Anim
     let (mut recorder, computed) = match look.and_then(|l| l.poses) {
         _ if !M::BODIES.is_empty() => (BodyRecorder::new(M::BODIES), None),
         Some((names, poses)) => {
-            let computed: Box<dyn Fn(f64, &[f64], &[f64]) -> Vec<BodyPose> + 'a> =
-                Box::new(move |t, x, y| poses(params, t, x, y));
+            let computed: Posing<'a> = Box::new(move |t, x, y| poses(params, t, x, y));
             (BodyRecorder::named(names), Some(computed))
         }
         None => return None,
