@@ -30,8 +30,10 @@
 //!   the event's time, name, values before and after, and energy change; see the
 //!   private `events` module), and the summary counts the events by name and sums
 //!   their energy; the extras are told each event's energy ([`ExtraRun::events`]);
-//! - `index.html`: the run's summary, the extras' HTML sections ([`ExtraRun::sections`])
-//!   and every figure it drew, self-contained;
+//! - `index.html`: the run's summary, the extras' HTML sections ([`ExtraRun::sections`]),
+//!   for a model with bodies (`Model::BODIES`, or an entry's [`EntryOf::poses`]) the
+//!   animation of the run ([`crate::animation`]), and every figure it drew,
+//!   self-contained;
 //! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
 //!   sweep writes one too.
 //!
