@@ -110,9 +110,10 @@ pub fn units_path(results: &Path) -> std::path::PathBuf {
     results.with_file_name(format!("{stem}.units.csv"))
 }
 
-/// Writes the units side file (see the [module documentation](self)) of a results file
-/// with columns `names` (`t` included) of `model` beside `results`, whole or not at
-/// all, and returns its path.
+/// Writes the units side file `<stem>.units.csv` (a header row
+/// `column,unit,description`, then one row per column, `t` first as `t,s,time`; a unit
+/// is empty where the model declares none) of a results file with columns `names` (`t`
+/// included) of `model` beside `results`, whole or not at all, and returns its path.
 pub fn write_units(
     model: &dyn CatalogModel,
     results: &Path,
@@ -227,45 +228,5 @@ impl Recorder for Table {
         for (column, source) in self.data[1..].iter_mut().zip(&self.sources) {
             column.push(source.value(x, y));
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::catalog::find;
-
-    #[test]
-    fn give_every_column_its_declared_unit() {
-        let model = find("quick_return").unwrap().model;
-        assert_eq!(column_unit(model, "t"), ("s", "time"));
-        assert_eq!(column_unit(model, "Tc_z").0, "N·m");
-        assert_eq!(column_unit(model, "p5_x").0, "kg·m/s");
-        assert_eq!(column_unit(model, "crank.rotation.p_z").0, "kg·m²/s");
-        assert_eq!(
-            column_unit(model, "j01.spring.q_x").0,
-            "",
-            "a coupling's unit is not known"
-        );
-        assert_eq!(
-            units_path(Path::new("out/quick_return.partial.csv")),
-            Path::new("out/quick_return.partial.units.csv")
-        );
-    }
-
-    #[test]
-    fn resolves_names_and_vector_groups() {
-        let model = find("quick_return").unwrap().model;
-        let tc = resolve_columns(model, "Tc").unwrap();
-        let names: Vec<&str> = tc.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["Tc_x", "Tc_y", "Tc_z"]);
-        assert_eq!(resolve_columns(model, "R1").unwrap().len(), 9);
-        assert_eq!(resolve_columns(model, "P_in").unwrap().len(), 1);
-        assert!(resolve_columns(model, "nothing").is_none());
-        let state = model.state_names()[0];
-        assert_eq!(
-            resolve_columns(model, state).unwrap(),
-            [(state.to_owned(), Column::State(0))]
-        );
     }
 }
