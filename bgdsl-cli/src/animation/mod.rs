@@ -24,7 +24,7 @@ pub use addon::{start, AnimationRun};
 pub use html::{section, write_page, SECTION_ID};
 pub use look::{GroundFn, Look, PosesFn, ShapesFn};
 pub use recorder::{BodyPose, BodyRecorder, MAX_FRAMES};
-pub use view::View;
+pub use view::{View, PLANAR_TOLERANCE};
 
 /// How a body is drawn, in its own frame with the origin at its centre of mass.
 #[derive(Clone, Debug, PartialEq)]
