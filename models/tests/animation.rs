@@ -65,6 +65,9 @@ fn scratch(name: &str) -> PathBuf {
     common::scratch(&format!("animation-{name}"))
 }
 
+/// The browser's window for every still and DOM dump (the same layout in both). Each
+/// run also has `--no-sandbox` (CI runs as root) and `--disable-dev-shm-usage` (a
+/// container's small /dev/shm), and a device scale of 1 (a CSS pixel is a pixel).
 const WINDOW: &str = "--window-size=1000,800";
 
 /// Chromium's DOM of `page` at `#t=…` after its scripts ran, and its stderr.
@@ -79,6 +82,7 @@ fn dump_dom_at(browser: &Path, page: &Path, fragment: &str) -> (String, String) 
             "--headless",
             "--disable-gpu",
             "--no-sandbox",
+            "--disable-dev-shm-usage",
             "--force-device-scale-factor=1",
             WINDOW,
             "--enable-logging=stderr",
@@ -107,6 +111,7 @@ fn screenshot_at(browser: &Path, page: &Path, fragment: &str, png: &Path) -> (us
             "--headless",
             "--disable-gpu",
             "--no-sandbox",
+            "--disable-dev-shm-usage",
             "--force-device-scale-factor=1",
             "--hide-scrollbars",
             WINDOW,
@@ -408,6 +413,7 @@ fn write_the_readme_picture() {
             "--headless",
             "--disable-gpu",
             "--no-sandbox",
+            "--disable-dev-shm-usage",
             "--force-device-scale-factor=1",
             "--hide-scrollbars",
             "--window-size=720,640",
