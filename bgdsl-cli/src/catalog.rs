@@ -41,7 +41,9 @@
 //!   their energy; the extras are told each event's energy ([`ExtraRun::events`]);
 //! - `index.html`: the run's summary, the extras' HTML sections ([`ExtraRun::sections`];
 //!   for every model the causal bond graph, drawn by Graphviz's `dot` as inline SVG
-//!   when it is on the `PATH`, else its DOT text) and every figure it drew,
+//!   when it is on the `PATH`, else its DOT text), for a model with bodies
+//!   (`Model::BODIES`, or an entry's [`EntryOf::poses`]) the animation of the run
+//!   ([`crate::animation`]), and every figure it drew,
 //!   self-contained;
 //! - `run.yaml`: what produced the results ([`provenance`](crate::provenance)); a
 //!   sweep writes one too.

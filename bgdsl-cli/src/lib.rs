@@ -35,6 +35,7 @@
 //! its own.
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod catalog;
 pub mod cli;
 pub mod fmi;

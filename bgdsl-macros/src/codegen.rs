@@ -53,6 +53,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             component_names(&crate::flatten::display(&o.name.to_string()), shape)
         })
         .collect();
+    let bodies = bodies_const(graph, &state_names);
     let n_states = state_names.len();
     let n_outputs = output_names.len();
     let units = crate::units::check(graph, equations);
@@ -286,6 +287,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const STATES: &'static [::bgdsl_runtime::SignalInfo] = #state_infos;
             const OUTPUTS: &'static [::bgdsl_runtime::SignalInfo] = #output_infos;
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
+            #bodies
             #model_items
             #implicit_items
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
@@ -1276,5 +1278,36 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
             bonds: &[#(#bonds),*],
             loops: &[#(#loops),*],
         };
+    }
+}
+
+/// `const BODIES` for a model with instances of the library's `RigidBody` (nothing
+/// otherwise): where each one's `R_11` and `r_x` lie in the state vector.
+fn bodies_const(graph: &Graph, state_names: &[String]) -> TokenStream {
+    let entries: Vec<TokenStream> = graph
+        .bodies
+        .iter()
+        .filter_map(|path| {
+            let name = crate::flatten::display(path);
+            let at = |state: &str| {
+                let wanted = format!("{name}.{state}");
+                state_names.iter().position(|n| *n == wanted)
+            };
+            // Both are states of every RigidBody; a body without them is skipped.
+            let (orientation, position) = (at("R_11")?, at("r_x")?);
+            Some(quote! {
+                ::bgdsl_runtime::BodyInfo {
+                    name: #name,
+                    orientation: #orientation,
+                    position: #position,
+                }
+            })
+        })
+        .collect();
+    if entries.is_empty() {
+        return TokenStream::new();
+    }
+    quote! {
+        const BODIES: &'static [::bgdsl_runtime::BodyInfo] = &[#(#entries),*];
     }
 }

@@ -92,11 +92,23 @@ impl Parse for SubmodelDef {
 /// How deep instances may nest: deeper means a submodel instantiates itself.
 const MAX_DEPTH: usize = 16;
 
-/// Inlines every instance in `body`, returning flat statements; mistakes go to `errors`.
+/// One instance inlined: its path (`arm__upper` for `upper` inside `arm`) and the index
+/// in `submodels` of the definition it instantiates.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Placed {
+    /// The instance's flat name.
+    pub path: String,
+    /// Which of the visible submodels it is.
+    pub submodel: usize,
+}
+
+/// Inlines every instance in `body`, returning flat statements; mistakes go to `errors`,
+/// every instance inlined (nested ones too, in the order inlined) to `placed`.
 pub fn flatten(
     body: TokenStream,
     submodels: &[&SubmodelDef],
     errors: &mut Vec<syn::Error>,
+    placed: &mut Vec<Placed>,
 ) -> TokenStream {
     let body = label_whens(body);
     // The separator is reserved for the names instances give their parts.
@@ -118,7 +130,7 @@ pub fn flatten(
         ));
     }
     let mut instances = BTreeSet::new();
-    let flat = expand(body, submodels, errors, &mut instances, 0);
+    let flat = expand(body, submodels, errors, &mut instances, placed, 0);
     merge_paths(flat, &instances)
 }
 
@@ -127,6 +139,7 @@ fn expand(
     submodels: &[&SubmodelDef],
     errors: &mut Vec<syn::Error>,
     instances: &mut BTreeSet<String>,
+    placed: &mut Vec<Placed>,
     depth: usize,
 ) -> TokenStream {
     let mut out = TokenStream::new();
@@ -135,7 +148,11 @@ fn expand(
             out.extend(statement);
             continue;
         };
-        let Some(def) = submodels.iter().find(|d| d.name == submodel) else {
+        let Some((index, def)) = submodels
+            .iter()
+            .enumerate()
+            .find(|(_, d)| d.name == submodel)
+        else {
             let known: Vec<String> = submodels.iter().map(|d| d.name.to_string()).collect();
             errors.push(syn::Error::new(
                 submodel.span(),
@@ -162,10 +179,21 @@ fn expand(
             continue;
         };
         instances.insert(name.to_string());
+        placed.push(Placed {
+            path: name.to_string(),
+            submodel: index,
+        });
         let def_body = label_whens(def.body.clone());
         let locals = declared_names(&def_body);
         let inlined = rewrite(def_body, &name, &locals, &substitutions);
-        out.extend(expand(inlined, submodels, errors, instances, depth + 1));
+        out.extend(expand(
+            inlined,
+            submodels,
+            errors,
+            instances,
+            placed,
+            depth + 1,
+        ));
     }
     out
 }
@@ -542,6 +570,11 @@ mod should {
     use super::*;
 
     fn flat(submodels: &str, body: &str) -> (String, Vec<String>) {
+        let (text, errors, _) = flat_placed(submodels, body);
+        (text, errors)
+    }
+
+    fn flat_placed(submodels: &str, body: &str) -> (String, Vec<String>, Vec<Placed>) {
         let defs: Vec<SubmodelDef> = submodels
             .split("submodel")
             .filter(|s| !s.trim().is_empty())
@@ -549,11 +582,35 @@ mod should {
             .collect();
         let refs: Vec<&SubmodelDef> = defs.iter().collect();
         let mut errors = Vec::new();
-        let tokens = flatten(body.parse().unwrap(), &refs, &mut errors);
+        let mut placed = Vec::new();
+        let tokens = flatten(body.parse().unwrap(), &refs, &mut errors, &mut placed);
         (
             tokens.to_string(),
             errors.iter().map(|e| e.to_string()).collect(),
+            placed,
         )
+    }
+
+    #[test]
+    fn record_every_instance_with_its_path_and_definition() {
+        let (_, errors, placed) = flat_placed(
+            "submodel Body(m) { 1 v; I p = m; v -> p; } submodel Arm(m) { Body upper(m = m); Body lower(m = m); }",
+            "Body crank(m = 1.0); Arm arm(m = 2.0);",
+        );
+        assert!(errors.is_empty(), "{errors:?}");
+        let placed: Vec<(&str, usize)> = placed
+            .iter()
+            .map(|p| (p.path.as_str(), p.submodel))
+            .collect();
+        assert_eq!(
+            placed,
+            [
+                ("crank", 0),
+                ("arm", 1),
+                ("arm__upper", 0),
+                ("arm__lower", 0)
+            ]
+        );
     }
 
     #[test]

@@ -51,6 +51,9 @@ pub struct Graph {
     pub modes: Vec<crate::events::Mode>,
     /// Events (`when` blocks) in declaration order.
     pub events: Vec<crate::events::Event>,
+    /// The flat names of the standard library's `RigidBody` instances (see
+    /// [`crate::syntax::ModelDef::bodies`]).
+    pub bodies: Vec<String>,
 }
 
 /// One bond-graph lint allowed somewhere in the model.

@@ -51,6 +51,7 @@ pub fn resolve(mut model: ModelDef) -> syn::Result<Graph> {
                 .collect(),
             modes: Vec::new(),
             events: Vec::new(),
+            bodies: std::mem::take(&mut model.bodies),
         },
         components: Vec::new(),
     };

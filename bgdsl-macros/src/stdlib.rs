@@ -4,6 +4,10 @@
 
 use crate::flatten::SubmodelDef;
 
+/// The name of the standard library's rigid body, whose instances are a model's
+/// [`BODIES`](https://docs.rs/bgdsl-runtime): states `R` (orientation) and `r` (position).
+pub const RIGID_BODY: &str = "RigidBody";
+
 /// The standard library's text.
 pub const TEXT: &str = r#"
     /// A rigid body in 3-D, as the seed paper models a link: translational momentum p

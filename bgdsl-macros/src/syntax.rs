@@ -139,6 +139,9 @@ pub struct ModelDef {
     /// Names that statements which failed to parse meant to declare: later stages
     /// stay quiet about them instead of reporting follow-on errors.
     pub poisoned: Vec<Ident>,
+    /// The flat names (`crank`, `arm__upper`) of the instances of the standard
+    /// library's `RigidBody`, in the order inlined: the model's bodies.
+    pub bodies: Vec<String>,
 }
 
 /// One statement inside a model.
@@ -443,7 +446,17 @@ impl Parse for File {
         let mut models = Vec::new();
         for (attrs, vis, name, body, close) in raw_models {
             let mut errors = Vec::new();
-            let flat = crate::flatten::flatten(body, &visible, &mut errors);
+            let mut placed = Vec::new();
+            let flat = crate::flatten::flatten(body, &visible, &mut errors, &mut placed);
+            // Only the library's own RigidBody has the states an animation reads.
+            let bodies = placed
+                .into_iter()
+                .filter(|p| {
+                    p.submodel >= submodels.len()
+                        && visible[p.submodel].name == crate::stdlib::RIGID_BODY
+                })
+                .map(|p| p.path)
+                .collect();
             let mut keywords_in_paths = Vec::new();
             let declared = keywords_declared(&flat);
             let flat = raw_keyword_paths(flat, &declared, &mut keywords_in_paths);
@@ -466,6 +479,7 @@ impl Parse for File {
                 stmts,
                 errors,
                 poisoned,
+                bodies,
             });
         }
         Ok(File { models })

@@ -158,6 +158,12 @@ pub trait Model {
     /// [`crate::event`]). Empty for a model without any.
     const EVENTS: &'static [EventInfo] = &[];
 
+    /// The rigid bodies whose pose the state holds, in declaration order: for a generated
+    /// model, one per instance of the standard library's `RigidBody` (a model's own
+    /// `submodel RigidBody` shadows it and gives none). Empty for a model without any.
+    /// An animation reads each body's orientation and position from the state.
+    const BODIES: &'static [BodyInfo] = &[];
+
     /// The discrete modes, in declaration order: the last `MODES.len()` entries of the
     /// state vector, whose derivatives are exactly 0 (so every integrator holds them
     /// constant between events; only [`Model::apply_event`] changes them).
@@ -305,6 +311,35 @@ pub struct SignalInfo {
     /// Its documentation (the doc comment of the output, of the `state`, or of the
     /// element whose state it is), empty when there is none.
     pub doc: &'static str,
+}
+
+/// Where a rigid body's pose lies in a model's state vector (see [`Model::BODIES`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BodyInfo {
+    /// The body's name: the instance's path as the model's names show it, `crank`, or
+    /// `arm.upper` for a body inside an instance `arm`.
+    pub name: &'static str,
+    /// The state index of its orientation's `R_11`: the rotation matrix (body frame to
+    /// frame 0) is the 9 states from there, column by column (`R_11, R_21, R_31, R_12,
+    /// …`), as [`Model::STATE_NAMES`] lists them.
+    pub orientation: usize,
+    /// The state index of its centre of mass's `r_x` in frame 0: `r_x, r_y, r_z` from
+    /// there, in metres.
+    pub position: usize,
+}
+
+impl BodyInfo {
+    /// The body's orientation at state `x`, column-major (`R_11, R_21, R_31, R_12, …`).
+    pub fn orientation_of(&self, x: &[f64]) -> [f64; 9] {
+        let mut r = [0.0; 9];
+        r.copy_from_slice(&x[self.orientation..self.orientation + 9]);
+        r
+    }
+
+    /// The body's centre of mass at state `x`, in frame 0.
+    pub fn position_of(&self, x: &[f64]) -> [f64; 3] {
+        [x[self.position], x[self.position + 1], x[self.position + 2]]
+    }
 }
 
 /// The unit of entry `index` of `infos`, empty when the model does not describe it: the

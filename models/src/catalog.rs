@@ -30,7 +30,7 @@ mod physics;
 
 use std::sync::LazyLock;
 
-use bgdsl_runtime::{DormandPrinceOptions, Radau5Options, Solver};
+use bgdsl_runtime::{DormandPrinceOptions, Model, Radau5Options, Solver};
 
 pub use bgdsl_cli::catalog::*;
 pub use compare::Compare;
@@ -128,6 +128,50 @@ const FRICTION_COLUMNS: &[&str] = &[
     "Ff_3C", "N_3C", "u_3C", "mode_3C", "Ff_5C", "N_5C", "u_5C", "mode_5C", "P_fric",
 ];
 
+/// The quick return's links as the animation draws them: boxes of the spec's edge
+/// lengths (Table 1) about each link's centre of mass.
+fn link_boxes(l: [[f64; 3]; 5]) -> Vec<(&'static str, bgdsl_cli::animation::Shape)> {
+    ["crank", "slider", "rocker", "rod", "output_slider"]
+        .into_iter()
+        .zip(l)
+        .map(|(name, size)| (name, bgdsl_cli::animation::Shape::Box { size }))
+        .collect()
+}
+
+/// The quick return's pivots on the ground: the crank's O1 at the origin, the
+/// rocker's O3 at (0, −d, 0).
+fn pivots(d: f64) -> Vec<[f64; 3]> {
+    vec![[0.0, 0.0, 0.0], [0.0, -d, 0.0]]
+}
+
+/// The rigid quick return's links at a sample: the mechanism assembled at the run's
+/// crank angle (output `crank_angle`), where rigid joints hold it.
+fn rigid_poses(theta: f64, d: f64, l: [f64; 3]) -> Vec<bgdsl_cli::animation::BodyPose> {
+    let pose = crate::quick_return::assembly(theta, d, l[0], l[1], l[2]);
+    pose.orientation
+        .iter()
+        .zip(pose.position)
+        .map(|(r, p)| {
+            let mut columns = [0.0; 9];
+            columns.copy_from_slice(r.as_slice());
+            ([p.x, p.y, p.z], columns)
+        })
+        .collect()
+}
+
+/// The output `crank_angle` among `names` at outputs `y` (NaN, which draws nothing,
+/// were there none).
+fn crank_angle(names: &[&str], y: &[f64]) -> f64 {
+    names
+        .iter()
+        .position(|n| *n == "crank_angle")
+        .and_then(|i| y.get(i).copied())
+        .unwrap_or(f64::NAN)
+}
+
+/// The quick return's links, by name, in the order of its `assembly`.
+const LINKS: &[&str] = &["crank", "slider", "rocker", "rod", "output_slider"];
+
 /// The `models` program's catalogue: every model, in the order `models list` prints
 /// them, the flagship first (what `models` runs without a command).
 pub fn catalogue() -> Catalogue {
@@ -151,6 +195,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturn::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(&[])
                 .extras(QuickReturnExtras::<QuickReturn>::new()),
         )
@@ -165,6 +211,12 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(rigid_solver())
                 .checks(QuickReturnRigid::check_params)
+                .poses(LINKS, |p, _, _, y| {
+                    let theta = crank_angle(<QuickReturnRigid as Model>::OUTPUT_NAMES, y);
+                    rigid_poses(theta, p.d, [p.l1[0], p.l3[0], p.l4[0]])
+                })
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(&[])
                 .extras(QuickReturnExtras::<QuickReturnRigid>::new()),
         )
@@ -179,6 +231,12 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(coupled_solver())
                 .checks(QuickReturnRigidCoupled::check_params)
+                .poses(LINKS, |p, _, _, y| {
+                    let theta = crank_angle(<QuickReturnRigidCoupled as Model>::OUTPUT_NAMES, y);
+                    rigid_poses(theta, p.d, [p.l1[0], p.l3[0], p.l4[0]])
+                })
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(&[])
                 .extras(QuickReturnExtras::<QuickReturnRigidCoupled>::new()),
         )
@@ -193,6 +251,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturnFriction::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(FRICTION_COLUMNS)
                 .extras(QuickReturnExtras::<QuickReturnFriction>::compared_with(
                     &WITHOUT_FRICTION,
@@ -209,6 +269,8 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(flagship_solver())
                 .checks(QuickReturnEndStop::check_params)
+                .shapes(|p| link_boxes([p.l1, p.l2, p.l3, p.l4, p.l5]))
+                .ground(|p| pivots(p.d))
                 .record(STOP_COLUMNS)
                 .extras(QuickReturnExtras::<QuickReturnEndStop>::compared_with(
                     &WITHOUT_STOP,

@@ -1,6 +1,7 @@
 //! The catalogue a program is built from: [`Catalogue`], its [`Entry`]s and the typed
 //! builder [`EntryOf`] that makes an entry from a model type with defaults.
 
+use core::any::Any;
 use core::fmt;
 use core::marker::PhantomData;
 
@@ -11,6 +12,7 @@ use serde::Serialize;
 use super::adapter::Adapter;
 use super::extras::{Extras, NoExtras};
 use super::{CatalogModel, Checks};
+use crate::animation::{GroundFn, Look, PosesFn, ShapesFn};
 
 /// The physical checks of a model's parameters: records in `checks` every value that
 /// makes no physical sense (a mass of zero, a negative stiffness).
@@ -35,6 +37,10 @@ pub struct Entry {
     pub record: Option<&'static [&'static str]>,
     /// What a run writes and draws beyond the generic files ([`Extras`]).
     pub extras: Box<dyn Extras>,
+    /// How the animation draws the model's bodies: a [`Look`]`<M::Params>` set by
+    /// [`EntryOf::shapes`], [`EntryOf::ground`] and [`EntryOf::poses`], `None` for
+    /// markers, no ground and only the model's `BODIES`.
+    pub look: Option<Box<dyn Any + Send + Sync>>,
 }
 
 impl fmt::Debug for Entry {
@@ -70,6 +76,7 @@ pub struct EntryOf<M: FromParams> {
     checks: Option<CheckFn<M::Params>>,
     record: Option<&'static [&'static str]>,
     extras: Box<dyn Extras>,
+    look: Look<M::Params>,
     model: PhantomData<fn() -> M>,
 }
 
@@ -88,6 +95,7 @@ where
             checks: None,
             record: None,
             extras: Box::new(NoExtras),
+            look: Look::default(),
             model: PhantomData,
         }
     }
@@ -140,6 +148,31 @@ where
         self.extras = Box::new(extras);
         self
     }
+
+    /// How the animation of a model with bodies ([`Model::BODIES`](bgdsl_runtime::Model::BODIES))
+    /// draws them: `shapes(params)` gives (body name, [`Shape`](crate::animation::Shape))
+    /// pairs, in each body's frame about its centre of mass; a body it leaves out is a
+    /// marker.
+    pub fn shapes(mut self, shapes: ShapesFn<M::Params>) -> Self {
+        self.look.shapes = Some(shapes);
+        self
+    }
+
+    /// Points fixed in frame 0 that the animation draws as ground (pivots), from the
+    /// parameters.
+    pub fn ground(mut self, ground: GroundFn<M::Params>) -> Self {
+        self.look.ground = Some(ground);
+        self
+    }
+
+    /// Bodies the animation draws although the model does not list them in
+    /// [`Model::BODIES`](bgdsl_runtime::Model::BODIES) (it has no `RigidBody`):
+    /// `names`, and their poses at each sample from `poses(params, t, x, y)`, one per
+    /// name. Ignored for a model with `BODIES`.
+    pub fn poses(mut self, names: &'static [&'static str], poses: PosesFn<M::Params>) -> Self {
+        self.look.poses = Some((names, poses));
+        self
+    }
 }
 
 impl<M> From<EntryOf<M>> for Entry
@@ -157,6 +190,7 @@ where
             solver: e.solver,
             record: e.record,
             extras: e.extras,
+            look: (!e.look.is_empty()).then(|| Box::new(e.look) as Box<dyn Any + Send + Sync>),
         }
     }
 }

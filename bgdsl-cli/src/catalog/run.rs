@@ -342,7 +342,7 @@ pub(super) fn run_model<M>(
     observer: &dyn Observer,
 ) -> Result<Outcome, RunError>
 where
-    M: FromParams + bgdsl_runtime::Model,
+    M: FromParams + bgdsl_runtime::Model + 'static,
     M::Params: DeserializeOwned,
 {
     let model = M::from_params(params_from(&plan.params)?);

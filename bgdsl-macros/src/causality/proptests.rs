@@ -90,6 +90,7 @@ fn build(recipe: &Recipe) -> Graph {
         allowances: Vec::new(),
         modes: Vec::new(),
         events: Vec::new(),
+        bodies: Vec::new(),
     };
     let add_element = |graph: &mut Graph, kind: ElementKind, law: Law| {
         let id = ElementId(graph.elements.len());
