@@ -3,4 +3,5 @@
 
 pub mod bands;
 pub mod distribution;
+pub mod manifest;
 pub mod shard;
