@@ -115,6 +115,7 @@ mod params;
 mod physics;
 mod run;
 pub mod size;
+mod study;
 mod sweep;
 
 use core::fmt;
@@ -134,6 +135,7 @@ pub use physics::Catalogued;
 pub use run::{
     create_dir as create_output_dir, Observer, Outcome, Plots, RunError, RunPlan, Silent,
 };
+pub use study::{all_outputs, merge, run_study, DrawnParameter, StudyOutcome, StudyPlan};
 pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 use crate::dc_servo::DcServo;
@@ -248,6 +250,18 @@ pub trait CatalogModel: Sync {
         plan: &RunPlan,
         metrics: &[Metric],
         window: [f64; 2],
+        observer: &dyn Observer,
+    ) -> Result<Vec<f64>, RunError>;
+    /// Runs one sample of a study and returns `columns` at every sample time, row-major
+    /// (times, then columns).
+    ///
+    /// # Errors
+    ///
+    /// [`RunError`] when the run fails or is stopped.
+    fn trajectory(
+        &self,
+        plan: &RunPlan,
+        columns: &[Column],
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError>;
 }

@@ -12,7 +12,7 @@ use super::shard::Shard;
 pub const FILE_NAME: &str = "shard.yaml";
 
 /// What a shard folder holds.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Manifest {
     /// The program and its version that ran it, e.g. `models 0.1.0`.
@@ -33,6 +33,10 @@ pub struct Manifest {
     pub end: usize,
     /// Whether every item ran (a shard folder committed as `.partial` says false).
     pub complete: bool,
+    /// What the program needs to write the joined files besides the numbers (titles,
+    /// names, units), as it chooses.
+    #[serde(default)]
+    pub details: serde_yaml::Value,
 }
 
 impl Manifest {
@@ -207,6 +211,7 @@ mod tests {
             first: range.start,
             end: range.end,
             complete: true,
+            details: serde_yaml::Value::Null,
         }
     }
 

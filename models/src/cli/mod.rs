@@ -8,6 +8,8 @@
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
 //!            [--solver NAME] [--rtol X] [--atol X] [--step X] [--max-steps N]
 //!            [--t-start X] [--t-end X] [--interval X] [--no-plots] [--yes]
+//!            [--shard K/N]
+//! models merge DIR... [--out DIR]         join shard folders into the one-process result
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -96,6 +98,21 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Join the shard folders of a sweep or study (`run ... --shard K/N`) into the
+    /// one-process result.
+    ///
+    /// Refuses folders of different studies, a shard given twice, missing or partial
+    /// shards. Writes the data files the run without shards writes, bit for bit, and
+    /// draws the figures and index.html again.
+    Merge {
+        /// The shard folders, all N of them, in any order.
+        #[arg(required = true, value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+        /// The output folder [default: the first folder's name without
+        /// `-shard-K-of-N`].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Print the model's causal bond graph as Graphviz DOT (or SVG).
     Graph {
         /// The model (see `models list`).
@@ -155,6 +172,13 @@ pub struct RunArgs {
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,
+    /// Run only the K-th of N disjoint parts of a sweep or Monte Carlo study (K in
+    /// 1..=N), into a shard folder [default: out/NAME-shard-K-of-N] that `merge`
+    /// joins with the others (for Slurm: `--shard ${SLURM_ARRAY_TASK_ID}/N` with
+    /// `--array=1-N`; for a Kubernetes Indexed Job:
+    /// `--shard $((JOB_COMPLETION_INDEX + 1))/N`).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<bgdsl_cli::study::shard::Shard>,
     /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
     /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
     /// without it the program asks at a terminal and refuses otherwise.
@@ -240,6 +264,7 @@ pub fn execute(cli: Cli) -> Result<(), Failure> {
             outputs,
         }) => info::params(&model, states, outputs),
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Merge { dirs, out }) => run::merge(&dirs, out),
         Some(Command::Graph { model, svg }) => graph::graph(&model, svg),
         Some(Command::Fmu { model, out }) => fmu::fmu(&model, out),
     }
