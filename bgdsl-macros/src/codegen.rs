@@ -268,6 +268,12 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             #staged_methods
         }
 
+        impl ::bgdsl_runtime::FromParams for #name {
+            fn from_params(params: #params_ident) -> Self {
+                Self::new(params)
+            }
+        }
+
         #record_struct_state
         #record_struct_outputs
 
@@ -456,6 +462,12 @@ pub fn stub(model: &crate::syntax::ModelDef) -> TokenStream {
                     params,
                     inputs: ::core::default::Default::default(),
                 }
+            }
+        }
+
+        impl ::bgdsl_runtime::FromParams for #name {
+            fn from_params(params: #params_ident) -> Self {
+                Self::new(params)
             }
         }
 

@@ -66,7 +66,8 @@ pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElem
 #[cfg(feature = "std")]
 pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
 pub use model::{
-    unit_of, InputInfo, Model, ModelError, ParameterInfo, PowerBalance, SignalInfo, WithInputs,
+    unit_of, FromParams, InputInfo, Model, ModelError, ParameterInfo, PowerBalance, SignalInfo,
+    WithInputs,
 };
 #[cfg(feature = "std")]
 pub use record::{EventLog, Recorder, Trajectory};

@@ -357,3 +357,13 @@ pub struct PowerBalance<T> {
     /// Power dissipated by the resistors (R), W.
     pub dissipated: T,
 }
+
+/// A model made from its parameter struct alone, so that a program can build any model
+/// of a list from parameters it read (a scenario file, a command line).
+///
+/// `bond_graph!` implements it for every model it generates (as its `new`); a
+/// hand-written model implements it itself.
+pub trait FromParams: Model {
+    /// The model with these parameters.
+    fn from_params(params: Self::Params) -> Self;
+}

@@ -9,7 +9,7 @@ use bgdsl_runtime::Simulation;
 use serde::de::DeserializeOwned;
 use serde_yaml::Value;
 
-use super::run::{initial_state, params_from};
+use bgdsl_cli::catalog::{initial_state, params_from};
 use super::{Catalogued, Entry, RunPlan};
 use crate::plot::cumulative_trapezoid;
 use crate::quick_return::results::Results;

@@ -15,12 +15,14 @@ use crate::quick_return_rigid::{
 };
 use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
-/// A model of the catalogue: made from its parameter struct, with physical checks of
-/// the parameters (beyond "every number is finite", which the catalogue checks for all).
-pub trait Catalogued: bgdsl_runtime::WithInputs + Default + Sync + Sized + 'static {
-    /// The model with these parameters.
-    fn from_params(params: Self::Params) -> Self;
-    /// Records in `checks` every physically meaningless value of `params`: a mass of
+/// A model of the catalogue, with physical checks of the parameters (beyond "every
+/// number is finite", which the catalogue checks for all): [`Entry::of`]'s `checks`,
+/// and the FMI library's.
+///
+/// [`Entry::of`]: bgdsl_cli::Entry::of
+pub trait Catalogued:
+    bgdsl_runtime::WithInputs + bgdsl_runtime::FromParams + Default + Sync + Sized + 'static
+{    /// Records in `checks` every physically meaningless value of `params`: a mass of
     /// zero, a negative stiffness, a link that cannot be assembled.
     fn check_params(params: &Self::Params, checks: &mut Checks);
     /// The rigid mechanism a quick return model's parameters describe (for its
@@ -32,10 +34,6 @@ pub trait Catalogued: bgdsl_runtime::WithInputs + Default + Sync + Sized + 'stat
 }
 
 impl Catalogued for QuickReturn {
-    fn from_params(params: QuickReturnParams) -> Self {
-        QuickReturn::new(params)
-    }
-
     fn mechanism(params: &QuickReturnParams) -> Option<DrivenMechanism> {
         Some(DrivenMechanism::of(params))
     }
@@ -186,10 +184,6 @@ fn rigid_link_checks(p: &dyn Mechanism, checks: &mut Checks) {
 }
 
 impl Catalogued for QuickReturnRigid {
-    fn from_params(params: Self::Params) -> Self {
-        QuickReturnRigid::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         rigid_link_checks(p, checks);
     }
@@ -200,10 +194,6 @@ impl Catalogued for QuickReturnRigid {
 }
 
 impl Catalogued for QuickReturnRigidCoupled {
-    fn from_params(params: Self::Params) -> Self {
-        QuickReturnRigidCoupled::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         rigid_link_checks(p, checks);
         checks.non_negative("K_C", p.K_C);
@@ -216,10 +206,6 @@ impl Catalogued for QuickReturnRigidCoupled {
 }
 
 impl Catalogued for Oscillator {
-    fn from_params(params: Self::Params) -> Self {
-        Oscillator::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.non_negative("k", p.k);
@@ -228,10 +214,6 @@ impl Catalogued for Oscillator {
 }
 
 impl Catalogued for SeriesRlc {
-    fn from_params(params: Self::Params) -> Self {
-        SeriesRlc::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.non_negative("resistance", p.resistance);
         checks.positive("inductance", p.inductance);
@@ -244,10 +226,6 @@ impl Catalogued for SeriesRlc {
 macro_rules! drive_train_checks {
     ($($model:ident),*) => {$(
         impl Catalogued for $model {
-            fn from_params(params: Self::Params) -> Self {
-                $model::new(params)
-            }
-
             fn check_params(p: &Self::Params, checks: &mut Checks) {
                 checks.non_negative("resistance", p.resistance);
                 checks.positive("inductance", p.inductance);
@@ -266,10 +244,6 @@ macro_rules! drive_train_checks {
 drive_train_checks!(DcMotor, DcServo);
 
 impl Catalogued for QuarterCar {
-    fn from_params(params: Self::Params) -> Self {
-        QuarterCar::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("sprung_mass", p.sprung_mass);
         checks.positive("unsprung_mass", p.unsprung_mass);
@@ -284,10 +258,6 @@ impl Catalogued for QuarterCar {
 }
 
 impl Catalogued for Duffing {
-    fn from_params(params: Self::Params) -> Self {
-        Duffing::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.non_negative("c", p.c);
@@ -295,10 +265,6 @@ impl Catalogued for Duffing {
 }
 
 impl Catalogued for BouncingBall {
-    fn from_params(params: Self::Params) -> Self {
-        BouncingBall::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.positive("g", p.g);
@@ -309,10 +275,6 @@ impl Catalogued for BouncingBall {
 }
 
 impl Catalogued for HalfWaveRectifier {
-    fn from_params(params: Self::Params) -> Self {
-        HalfWaveRectifier::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.non_negative("amplitude", p.amplitude);
         checks.positive("frequency", p.frequency);
@@ -324,10 +286,6 @@ impl Catalogued for HalfWaveRectifier {
 }
 
 impl Catalogued for HalfWaveRectifierExp {
-    fn from_params(params: Self::Params) -> Self {
-        HalfWaveRectifierExp::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.non_negative("amplitude", p.amplitude);
         checks.positive("frequency", p.frequency);
@@ -340,10 +298,6 @@ impl Catalogued for HalfWaveRectifierExp {
 }
 
 impl Catalogued for EndStop {
-    fn from_params(params: Self::Params) -> Self {
-        EndStop::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.positive("k", p.k);
@@ -353,10 +307,6 @@ impl Catalogued for EndStop {
 }
 
 impl Catalogued for ClutchEngagement {
-    fn from_params(params: Self::Params) -> Self {
-        ClutchEngagement::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("j1", p.j1);
         checks.positive("j2", p.j2);
@@ -366,10 +316,6 @@ impl Catalogued for ClutchEngagement {
 }
 
 impl Catalogued for BeltFriction {
-    fn from_params(params: Self::Params) -> Self {
-        BeltFriction::new(params)
-    }
-
     fn check_params(p: &Self::Params, checks: &mut Checks) {
         checks.positive("m", p.m);
         checks.positive("k", p.k);
@@ -381,10 +327,6 @@ impl Catalogued for BeltFriction {
 }
 
 impl Catalogued for QuickReturnFriction {
-    fn from_params(params: Self::Params) -> Self {
-        QuickReturnFriction::new(params)
-    }
-
     fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
         Some(DrivenMechanism::of(params))
     }
@@ -404,10 +346,6 @@ impl Catalogued for QuickReturnFriction {
 }
 
 impl Catalogued for QuickReturnEndStop {
-    fn from_params(params: Self::Params) -> Self {
-        QuickReturnEndStop::new(params)
-    }
-
     fn mechanism(params: &Self::Params) -> Option<DrivenMechanism> {
         Some(DrivenMechanism::of(params))
     }

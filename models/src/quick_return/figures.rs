@@ -76,18 +76,7 @@ impl Default for FigureOptions {
     }
 }
 
-/// A figure drawn (or skipped, with no files and the reason in its caption).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DrawnFigure {
-    /// Its id, such as `fig05`.
-    pub id: String,
-    /// Its title, as in the paper.
-    pub title: String,
-    /// What it shows, how it was computed, and what it measured.
-    pub caption: String,
-    /// The image files written, one per format.
-    pub files: Vec<PathBuf>,
-}
+pub use bgdsl_cli::report::DrawnFigure;
 
 /// Draws the figures `options` selects from `results` into `out_dir` (created if
 /// needed), returning each figure drawn, in [`FIGURE_IDS`] order. A figure that

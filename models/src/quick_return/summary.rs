@@ -51,6 +51,7 @@ use bgdsl_runtime::{Solver, Stats};
 
 use super::results::{Results, CRANK_ANGLE, N_COLUMNS};
 use super::run::Recorded;
+pub use bgdsl_cli::catalog::SolverSettings;
 use crate::quick_return_rigid::{try_quick_return_cycle, Mechanism};
 
 /// The settled part of the run the measurements are taken over, s (both ends included).
@@ -417,27 +418,6 @@ impl Summary {
     pub fn with_params(mut self, p: &dyn Mechanism) -> Self {
         self.rigid = RigidReference::of(p);
         self
-    }
-}
-
-/// The solver's name and its main settings, e.g. `radau5 (rtol 1e-6, atol 1e-10)`.
-#[derive(Clone, Copy, Debug)]
-pub struct SolverSettings<'a>(pub &'a Solver);
-
-impl fmt::Display for SolverSettings<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let name = self.0.name();
-        match self.0 {
-            Solver::Radau5(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
-            Solver::Rodas4(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
-            Solver::DormandPrince(o) => {
-                write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol)
-            }
-            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
-                write!(f, "{name} (step {:e} s)", o.step)
-            }
-            _ => f.write_str(name),
-        }
     }
 }
 

@@ -11,8 +11,8 @@ use bgdsl_runtime::Recorder;
 use rayon::prelude::*;
 use serde_yaml::Value;
 
-use bgdsl_cli::study::manifest::{self, study_hash, Manifest};
-use bgdsl_cli::study::shard::Shard;
+use crate::study::manifest::{self, study_hash, Manifest};
+use crate::study::shard::Shard;
 
 use super::folder::RunFolder;
 use super::study::StudyOutcome;
@@ -239,7 +239,7 @@ pub(super) fn merge_sweep(
             points.len(),
             shards.len()
         );
-        figures::index(dir, &shape.title, &summary, &drawn)?;
+        figures::index(dir, &shape.title, &summary, &drawn, &[])?;
         let name = path.file_name().unwrap_or_default().to_owned();
         let target = folder.commit(failure.is_some())?;
         Ok(StudyOutcome {
@@ -383,8 +383,8 @@ pub fn run_sweep(
     write_table(dir, &shape, &points, &rows)?;
     if let Some(shard) = shard {
         let manifest = Manifest {
-            program: super::study::program(),
-            study: study_hash(&super::study::program(), &plan.canonical(entry)),
+            program: super::study::program(&plan.base),
+            study: study_hash(&super::study::program(&plan.base), &plan.canonical(entry)),
             kind: "sweep".to_owned(),
             shard: shard.index,
             shards: shard.count,
@@ -483,7 +483,7 @@ pub fn run_sweep(
         std::slice::from_ref(&path),
         failure.as_deref(),
     )?;
-    figures::index(dir, &plan.base.title, &summary, &drawn)?;
+    figures::index(dir, &plan.base.title, &summary, &drawn, &[])?;
     let target = folder.commit(partial)?;
     let mut files = vec![path, target.join(provenance::FILE_NAME)];
     files.extend(drawn.iter().flat_map(|f| {

@@ -7,10 +7,9 @@ use std::path::Path;
 use super::info::print;
 use super::progress::Progress;
 use super::{Failure, RunArgs};
-use bgdsl_cli::study::shard::Shard;
-
-use crate::catalog::{run_study, run_sweep, size};
+use crate::catalog::{run_study, run_sweep, size, Catalogue};
 use crate::scenario::{self, resolve, Job, Origin, Overrides, Plan, Scenario};
+use crate::study::shard::Shard;
 
 /// Whether the target names a scenario file rather than a model.
 fn is_scenario(target: &str) -> bool {
@@ -23,7 +22,7 @@ fn is_scenario(target: &str) -> bool {
 }
 
 /// `models run <model | scenario.yaml> ...`.
-pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
+pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), Failure> {
     let overrides = Overrides {
         set: args.set.clone(),
         solver: args.solver.clone(),
@@ -48,13 +47,19 @@ pub(super) fn run(args: &RunArgs) -> Result<(), Failure> {
             .and_then(|s| s.to_str())
             .unwrap_or("scenario")
             .to_owned();
-        resolve(Some(&loaded.source), &loaded.scenario, &overrides, &name)
+        resolve(
+            catalogue,
+            Some(&loaded.source),
+            &loaded.scenario,
+            &overrides,
+            &name,
+        )
     } else {
         let scenario = Scenario {
             model: args.target.clone(),
             ..Scenario::default()
         };
-        resolve(None, &scenario, &overrides, &args.target).map_err(|mut d| {
+        resolve(catalogue, None, &scenario, &overrides, &args.target).map_err(|mut d| {
             if let Some(first) = d.0.first_mut() {
                 if first.origin == Origin::Nowhere && first.message.starts_with("unknown model") {
                     first

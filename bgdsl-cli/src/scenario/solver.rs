@@ -26,14 +26,14 @@ pub(super) fn solver(
     };
     let mut solver = match named {
         Some(name) => match Solver::from_name(&name) {
-            Ok(s) if s.name() == (entry.solver)().name() => (entry.solver)(),
+            Ok(s) if s.name() == entry.solver.name() => entry.solver,
             Ok(s) => s,
             Err(e) => {
                 d.push(name_origin, e.to_string());
                 return None;
             }
         },
-        None => (entry.solver)(),
+        None => entry.solver,
     };
     let before = d.0.len();
     let setting =

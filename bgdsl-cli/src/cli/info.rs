@@ -5,7 +5,7 @@ use std::io::Write;
 use serde_yaml::Value;
 
 use super::Failure;
-use crate::catalog::{self, format_value, MODELS};
+use crate::catalog::{format_value, Catalogue};
 
 /// Writes `text` to stdout.
 pub(super) fn print(text: &str) -> Result<(), Failure> {
@@ -16,19 +16,27 @@ pub(super) fn print(text: &str) -> Result<(), Failure> {
 }
 
 /// `models list`.
-pub(super) fn list() -> Result<(), Failure> {
-    let width = MODELS.iter().map(|e| e.name.len()).max().unwrap_or(0);
+pub(super) fn list(catalogue: &Catalogue) -> Result<(), Failure> {
+    let entries = catalogue.entries();
+    let width = entries.iter().map(|e| e.name.len()).max().unwrap_or(0);
     let mut text = String::new();
-    for entry in MODELS {
+    for entry in entries {
         text.push_str(&format!("{:<width$}  {}\n", entry.name, entry.description));
     }
     print(&text)
 }
 
 /// `models params <model>`.
-pub(super) fn params(name: &str, states: bool, outputs: bool) -> Result<(), Failure> {
-    let entry = catalog::find(name).map_err(|e| Failure::Usage(e.to_string()))?;
-    let model = entry.model;
+pub(super) fn params(
+    catalogue: &Catalogue,
+    name: &str,
+    states: bool,
+    outputs: bool,
+) -> Result<(), Failure> {
+    let entry = catalogue
+        .find(name)
+        .map_err(|e| Failure::Usage(e.to_string()))?;
+    let model = &*entry.model;
     let defaults = model.default_parameters();
     let rows: Vec<[String; 4]> = model
         .parameters()

@@ -158,7 +158,7 @@ pub fn format_value(value: &Value) -> String {
 
 /// A number in the shortest form that reads back to it: plain from 1e-4 to 1e15,
 /// scientific outside.
-pub(crate) fn format_number(v: f64) -> String {
+pub fn format_number(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
         format!("{v}")
@@ -168,7 +168,7 @@ pub(crate) fn format_number(v: f64) -> String {
 }
 
 /// Six significant digits, for tables: `49.3641`, `2.00000`, `1.00000e-5`, `0`.
-pub(crate) fn format_significant(v: f64) -> String {
+pub fn format_significant(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         format!("{v}")
     } else if v.abs() >= 1e6 || v.abs() < 1e-3 {

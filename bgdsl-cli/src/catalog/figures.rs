@@ -1,7 +1,6 @@
-//! The catalogue's calls into the plotting modules: the quick return's figures
-//! ([`crate::quick_return::figures`]), one chart per output against time for the other
-//! models, the sweep's charts (all with [`crate::plot`]), and `index.html`
-//! ([`crate::report`]). Every image is written in PNG and SVG.
+//! The catalogue's calls into the plotting modules: one chart per output against time,
+//! the sweep's charts (all with [`crate::plot`]), and `index.html` ([`crate::report`]).
+//! Every image is written in PNG and SVG.
 
 use std::path::{Path, PathBuf};
 
@@ -10,20 +9,12 @@ use super::params::format_number;
 use super::sweep::SweepShape;
 use super::{Entry, Plots, RunError};
 use crate::plot::{draw_line_chart, ImageFormat, LineChart, PlotError, Series};
-use crate::quick_return::figures::{draw_figures, DrawnFigure, FigureOptions, FIGURE_IDS};
-use crate::quick_return::results::Results;
-use crate::quick_return_rigid::Mechanism;
-use crate::report::write_index;
-
-/// The ids of the quick return's figures (`fig03` … `fig21`).
-pub fn figure_ids() -> &'static [&'static str] {
-    FIGURE_IDS
-}
+use crate::report::{write_index, DrawnFigure};
 
 /// An image that cannot be drawn or written (a full disk: the PNG encoder reports it as
 /// a drawing error) is an I/O error, and the set is abandoned; any other failure (no
 /// font) leaves the results and the index without figures.
-fn plot_error(e: PlotError) -> RunError {
+pub fn plot_error(e: PlotError) -> RunError {
     match e {
         PlotError::Io {
             path,
@@ -51,23 +42,6 @@ fn stop_if_interrupted() -> Result<(), RunError> {
     } else {
         Ok(())
     }
-}
-
-/// The paper's figures (and the extras) from a quick return run.
-pub(super) fn quick_return(
-    results: &Results,
-    params: &dyn Mechanism,
-    dir: &Path,
-    plots: &Plots,
-) -> Result<Vec<DrawnFigure>, RunError> {
-    let options = FigureOptions {
-        only: match plots {
-            Plots::Only(ids) => Some(ids.clone()),
-            _ => None,
-        },
-        ..FigureOptions::default()
-    };
-    draw_figures(results, params, dir, &options).map_err(plot_error)
 }
 
 /// A file name from a column name: letters, digits, `_` and `-` kept, the rest `_`.
@@ -117,7 +91,7 @@ pub(super) fn trajectory(
                 entry.name
             ),
             x_label: "time t (s)".to_owned(),
-            y_label: with_unit(name, column_unit(entry.model, name).0),
+            y_label: with_unit(name, column_unit(&*entry.model, name).0),
             series: vec![Series::new(
                 name,
                 table
@@ -200,14 +174,15 @@ pub(super) fn sweep(
     Ok(drawn)
 }
 
-/// Writes `index.html` with the summary and the figures.
+/// Writes `index.html` with the summary, the HTML `sections` and the figures.
 pub(super) fn index(
     dir: &Path,
     title: &str,
     summary: &str,
     figures: &[DrawnFigure],
+    sections: &[String],
 ) -> Result<PathBuf, RunError> {
-    write_index(dir, title, summary, figures).map_err(plot_error)
+    write_index(dir, title, summary, figures, sections).map_err(plot_error)
 }
 
 /// One chart per banded column of a Monte Carlo study: the median, the 25–75 % band

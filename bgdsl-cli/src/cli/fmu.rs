@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use bgdsl_fmi_core::FmuError;
 
 use super::Failure;
-use crate::catalog;
+use crate::catalog::{self, Catalogue};
 
 /// `models fmu <model> [--out PATH]`: writes the FMU and prints its path.
 ///
@@ -13,8 +13,10 @@ use crate::catalog;
 /// `<model>.fmu` into (default `out/fmu`). Missing folders are created by the rule
 /// `run --out` follows ([`catalog::create_output_dir`]), once the library has been
 /// found, so a command that fails for want of it creates nothing.
-pub(super) fn fmu(name: &str, out: Option<PathBuf>) -> Result<(), Failure> {
-    let entry = catalog::find(name).map_err(|e| Failure::Usage(e.to_string()))?;
+pub(super) fn fmu(catalogue: &Catalogue, name: &str, out: Option<PathBuf>) -> Result<(), Failure> {
+    let entry = catalogue
+        .find(name)
+        .map_err(|e| Failure::Usage(e.to_string()))?;
     let library = bgdsl_fmi_core::find_library().map_err(library_failure)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out/fmu"));
     catalog::create_output_dir(folder_of(&out)).map_err(Failure::Run)?;

@@ -113,7 +113,7 @@ pub fn units_path(results: &Path) -> std::path::PathBuf {
 /// Writes the units side file (see the [module documentation](self)) of a results file
 /// with columns `names` (`t` included) of `model` beside `results`, whole or not at
 /// all, and returns its path.
-pub(super) fn write_units(
+pub fn write_units(
     model: &dyn CatalogModel,
     results: &Path,
     names: &[&str],

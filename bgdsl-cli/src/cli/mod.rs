@@ -1,4 +1,6 @@
-//! The `models` program: its command line (clap) and the commands behind it.
+//! The program: its command line (clap) and the commands behind it, over a
+//! [`Catalogue`]. Shown here for the `models` program of this repository (another
+//! program has its own name and models; without a command it runs its first model).
 //!
 //! ```text
 //! models                                  the flagship: `models run quick_return`
@@ -40,29 +42,25 @@ mod run;
 use core::fmt;
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
-use crate::catalog::RunError;
+use crate::catalog::{Catalogue, RunError};
 use crate::scenario::Diagnostics;
 
 pub use progress::Progress;
 
-/// The command line.
+/// The exit statuses, for `--help`.
+const EXIT_HELP: &str = "Exit status: 0 success; 1 the run failed part-way or was \
+    interrupted (partial results in <out>.partial/, <out> untouched) or output could \
+    not be written; 2 usage or validation error (nothing written); 69 a missing \
+    external prerequisite (Graphviz's `dot` for `graph --svg`, the FMI library for \
+    `fmu`; nothing written); 130 a second SIGINT/SIGTERM (nothing temporary left).";
+
+/// The command line. Its name, version and `--help` text come from the catalogue
+/// ([`parse`]).
 #[derive(Debug, Parser)]
-#[command(
-    name = "models",
-    version,
-    about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.",
-    long_about = "Run the bond-graph models of bgdsl: the quick return mechanism and friends.\n\n\
-        Without a command, runs the flagship (the quick return mechanism, 0-5 s) and writes \
-        out/quick_return/.\n\nExit status: 0 success; 1 the run failed part-way or was \
-        interrupted (partial results in <out>.partial/, <out> untouched) or output could \
-        not be written; 2 usage or validation error (nothing written); 69 a missing \
-        external prerequisite (Graphviz's `dot` for `graph --svg`, the FMI library for \
-        `fmu`; nothing written); 130 a second SIGINT/SIGTERM (nothing temporary left)."
-)]
 pub struct Cli {
-    /// What to do (default: run the quick return mechanism).
+    /// What to do (default: run the catalogue's first model).
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -178,7 +176,7 @@ pub struct RunArgs {
     /// `--array=1-N`; for a Kubernetes Indexed Job:
     /// `--shard $((JOB_COMPLETION_INDEX + 1))/N`).
     #[arg(long, value_name = "K/N")]
-    pub shard: Option<bgdsl_cli::study::shard::Shard>,
+    pub shard: Option<crate::study::shard::Shard>,
     /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
     /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
     /// without it the program asks at a terminal and refuses otherwise.
@@ -246,26 +244,107 @@ impl fmt::Display for Failure {
 
 impl std::error::Error for Failure {}
 
-/// Runs the command line.
+/// The clap command of `catalogue`'s program: its name, version, and `--help` saying
+/// what it runs without a command.
+pub fn command(catalogue: &'static Catalogue) -> clap::Command {
+    let program = catalogue.program.as_str();
+    let default = match (&catalogue.default_help, catalogue.entries().first()) {
+        (Some(text), _) => text.clone(),
+        (None, Some(first)) => format!(
+            "Without a command, runs {} and writes out/{}/.",
+            first.name, first.name
+        ),
+        (None, None) => "The catalogue has no model.".to_owned(),
+    };
+    let long_about = format!("{}\n\n{default}\n\n{EXIT_HELP}", catalogue.about);
+    let mut command = Cli::command()
+        .name(program)
+        .version(catalogue.version.as_str())
+        .about(catalogue.about.as_str())
+        .long_about(long_about);
+    if program != "models" {
+        command = rename(command, program);
+    }
+    command
+}
+
+/// The help texts' "`models list`" and the like, in another program's name.
+fn rename(command: clap::Command, program: &str) -> clap::Command {
+    let fix = |text: Option<&clap::builder::StyledStr>| {
+        text.map(|t| t.to_string().replace("`models ", &format!("`{program} ")))
+    };
+    let names: Vec<String> = command
+        .get_subcommands()
+        .map(|c| c.get_name().to_owned())
+        .collect();
+    let mut command = command;
+    for name in names {
+        command = command.mut_subcommand(name, |sub| {
+            let ids: Vec<String> = sub.get_arguments().map(|a| a.get_id().to_string()).collect();
+            let about = fix(sub.get_about());
+            let long_about = fix(sub.get_long_about());
+            let mut sub = sub;
+            if let Some(about) = about {
+                sub = sub.about(about);
+            }
+            if let Some(long_about) = long_about {
+                sub = sub.long_about(long_about);
+            }
+            for id in ids {
+                sub = sub.mut_arg(id, |arg| {
+                    let help = fix(arg.get_help());
+                    let long_help = fix(arg.get_long_help());
+                    let mut arg = arg;
+                    if let Some(help) = help {
+                        arg = arg.help(help);
+                    }
+                    if let Some(long_help) = long_help {
+                        arg = arg.long_help(long_help);
+                    }
+                    arg
+                });
+            }
+            sub
+        });
+    }
+    command
+}
+
+/// Parses `std::env::args` for `catalogue`'s program; on a usage error, `--help` or
+/// `--version`, prints and exits as clap does (status 2 for an error).
+pub fn parse(catalogue: &'static Catalogue) -> Cli {
+    let matches = command(catalogue).get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+/// Runs the command line over `catalogue`.
 ///
 /// # Errors
 ///
 /// [`Failure`], whose `Display` is the message for stderr.
-pub fn execute(cli: Cli) -> Result<(), Failure> {
+pub fn execute(cli: Cli, catalogue: &'static Catalogue) -> Result<(), Failure> {
     match cli.command {
-        None => run::run(&RunArgs {
-            target: "quick_return".to_owned(),
-            ..RunArgs::default()
-        }),
-        Some(Command::List) => info::list(),
+        None => {
+            let Some(first) = catalogue.entries().first() else {
+                return Err(Failure::Usage("the catalogue has no model".to_owned()));
+            };
+            run::run(
+                &RunArgs {
+                    target: first.name.clone(),
+                    ..RunArgs::default()
+                },
+                catalogue,
+            )
+        }
+        Some(Command::List) => info::list(catalogue),
         Some(Command::Params {
             model,
             states,
             outputs,
-        }) => info::params(&model, states, outputs),
-        Some(Command::Run(args)) => run::run(&args),
+        }) => info::params(catalogue, &model, states, outputs),
+        Some(Command::Run(args)) => run::run(&args, catalogue),
         Some(Command::Merge { dirs, out }) => run::merge(&dirs, out),
-        Some(Command::Graph { model, svg }) => graph::graph(&model, svg),
-        Some(Command::Fmu { model, out }) => fmu::fmu(&model, out),
+        Some(Command::Graph { model, svg }) => graph::graph(catalogue, &model, svg),
+        Some(Command::Fmu { model, out }) => fmu::fmu(catalogue, &model, out),
     }
 }

@@ -10,10 +10,10 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use bgdsl_cli::study::bands::{bands, SUFFIXES};
-use bgdsl_cli::study::distribution::{draw, Distribution};
-use bgdsl_cli::study::manifest::{self, study_hash, Manifest};
-use bgdsl_cli::study::shard::Shard;
+use crate::study::bands::{bands, SUFFIXES};
+use crate::study::distribution::{draw, Distribution};
+use crate::study::manifest::{self, study_hash, Manifest};
+use crate::study::shard::Shard;
 use bgdsl_runtime::record::{write_atomically, write_number};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -93,9 +93,11 @@ pub(super) fn canonical_run(plan: &RunPlan) -> String {
     )
 }
 
-/// The program's name and version, for manifests.
-pub(super) fn program() -> String {
-    format!("models {}", env!("CARGO_PKG_VERSION"))
+/// The program's name, version and commit, for manifests: shards join only when one
+/// build of one program ran them all.
+pub(super) fn program(plan: &RunPlan) -> String {
+    let p = &plan.context.program;
+    format!("{} {} (commit {})", p.name, p.version, p.commit)
 }
 
 /// Every output of `model`, as `output.record` names them.
@@ -233,7 +235,7 @@ pub fn run_study(
             .columns
             .iter()
             .map(|(n, _)| {
-                let unit = super::columns::column_unit(entry.model, n).0;
+                let unit = super::columns::column_unit(&*entry.model, n).0;
                 (n.clone(), unit.to_owned())
             })
             .collect(),
@@ -257,8 +259,8 @@ pub fn run_study(
     let written = match shard {
         Some(shard) => {
             let manifest = Manifest {
-                program: program(),
-                study: study_hash(&program(), &plan.canonical(entry)),
+                program: program(&plan.base),
+                study: study_hash(&program(&plan.base), &plan.canonical(entry)),
                 kind: "monte_carlo".to_owned(),
                 shard: shard.index,
                 shards: shard.count,
@@ -295,7 +297,7 @@ pub fn run_study(
 }
 
 /// The drawing's result, for [`settle_drawing`].
-type Drawn = Result<Vec<super::super::quick_return::figures::DrawnFigure>, RunError>;
+type Drawn = Result<Vec<crate::report::DrawnFigure>, RunError>;
 
 /// Writes a shard's files: its rows of `samples.csv` and `trajectories.csv`,
 /// `shard.yaml` and a short `index.html`. Returns the file names.
@@ -313,13 +315,13 @@ fn write_shard(
     write_atomically(&path, |out| out.write_all(manifest.to_yaml().as_bytes()))?;
     let summary = format!(
         "shard {} of a study: samples {}..{} of {} (end excluded); join the shards with \
-         `models merge`\n{head}",
+         the `merge` command\n{head}",
         manifest.shard(),
         manifest.first,
         manifest.end,
         manifest.items
     );
-    figures::index(dir, &shape.title, &summary, &[])?;
+    figures::index(dir, &shape.title, &summary, &[], &[])?;
     Ok((
         vec![
             SAMPLES.to_owned(),
@@ -396,7 +398,7 @@ fn write_study(
         Ok(d) => d.clone(),
         Err(_) => Vec::new(),
     };
-    figures::index(dir, &shape.title, &summary, &drawn_ok)?;
+    figures::index(dir, &shape.title, &summary, &drawn_ok, &[])?;
     let mut files = vec![SAMPLES.to_owned(), TRAJECTORIES.to_owned(), BANDS.to_owned()];
     files.extend(drawn_ok.iter().flat_map(|f| {
         f.files

@@ -1,7 +1,8 @@
-//! The HTML report of a run: one self-contained `index.html` with the run's summary
-//! and every figure with its caption.
+//! The HTML report of a run: one self-contained `index.html` with the run's summary,
+//! the sections its extras add (HTML fragments, e.g. an animation) and every figure
+//! with its caption.
 //!
-//! The page has no external assets and no scripts: each figure's SVG is inlined (its
+//! The page has no external assets, and no scripts but those a section brings: each figure's SVG is inlined (its
 //! `xmlns` attribute dropped, which HTML does not need), or, when only a PNG was drawn,
 //! the PNG is embedded as a base64 `data:` URI. Links to the image files beside the
 //! page are relative. All text is HTML-escaped.
@@ -13,14 +14,26 @@ use std::path::{Path, PathBuf};
 use bgdsl_runtime::record::write_atomically;
 
 use crate::plot::PlotError;
-use crate::quick_return::figures::DrawnFigure;
+
+/// A figure drawn (or skipped, with no files and the reason in its caption).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawnFigure {
+    /// Its id, such as `fig05` or an output's name.
+    pub id: String,
+    /// Its title.
+    pub title: String,
+    /// What it shows, how it was computed, and what it measured.
+    pub caption: String,
+    /// The image files written, one per format.
+    pub files: Vec<PathBuf>,
+}
 
 /// The report's file name.
 pub const INDEX_FILE: &str = "index.html";
 
 /// Writes `out_dir/index.html` (the directory must exist), atomically: a page titled
-/// `title` with `summary` in a `<pre>` block and every figure, its title, image and
-/// caption; returns the path written. A figure without files (skipped) is listed with
+/// `title` with `summary` in a `<pre>` block, then `sections` (HTML fragments, as they
+/// are), then every figure, its title, image and caption; returns the path written. A figure without files (skipped) is listed with
 /// its caption.
 ///
 /// # Errors
@@ -31,12 +44,13 @@ pub fn write_index(
     title: &str,
     summary: &str,
     figures: &[DrawnFigure],
+    sections: &[String],
 ) -> Result<PathBuf, PlotError> {
     let mut body = String::new();
     for figure in figures {
         body.push_str(&figure_html(figure)?);
     }
-    let page = page(title, summary, figures, &body);
+    let page = page(title, summary, sections, figures, &body);
     let path = out_dir.join(INDEX_FILE);
     write_atomically(&path, |out| out.write_all(page.as_bytes())).map_err(|e| PlotError::Io {
         path: e.path,
@@ -54,7 +68,13 @@ padding:1em;overflow-x:auto;font-size:.9em}.files{font-size:.9em;color:#555}\
 nav ul{columns:2;font-size:.95em}";
 
 /// The whole page around the figures' HTML.
-fn page(title: &str, summary: &str, figures: &[DrawnFigure], body: &str) -> String {
+fn page(
+    title: &str,
+    summary: &str,
+    sections: &[String],
+    figures: &[DrawnFigure],
+    body: &str,
+) -> String {
     let title = escape(title);
     let mut contents = String::new();
     for figure in figures {
@@ -68,9 +88,10 @@ fn page(title: &str, summary: &str, figures: &[DrawnFigure], body: &str) -> Stri
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
          <title>{title}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n\
-         <h1>{title}</h1>\n<h2>Summary of the run</h2>\n<pre>{}</pre>\n\
+         <h1>{title}</h1>\n<h2>Summary of the run</h2>\n<pre>{}</pre>\n{}\
          <h2>Figures</h2>\n<nav><ul>\n{contents}</ul></nav>\n{body}</body>\n</html>\n",
-        escape(summary)
+        escape(summary),
+        sections.concat()
     )
 }
 
@@ -258,7 +279,7 @@ mod tests {
                 files: vec![],
             },
         ];
-        let path = write_index(&dir, "Run <1>", "rows  5001\nok", &figures).unwrap();
+        let path = write_index(&dir, "Run <1>", "rows  5001\nok", &figures, &[]).unwrap();
         let html = fs::read_to_string(&path).unwrap();
         fs::remove_dir_all(&dir).unwrap();
         assert!(html.contains("<title>Run &lt;1&gt;</title>"));

@@ -15,10 +15,10 @@ use super::study::study;
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
-    self, format_number, format_value, parse_value, resolve_columns, set_parameter, Column, Entry,
-    Plots, ResultsKind, RunPlan, StudyPlan, SweepPlan,
+    self, format_number, format_value, parse_value, resolve_columns, set_parameter, Catalogue,
+    Column, Entry, Plots, RunPlan, StudyPlan, SweepPlan,
 };
-use crate::provenance::{folder, Context, Sampling};
+use crate::provenance::{folder, Context, Program, Sampling};
 
 /// The smallest and largest relative tolerance a scenario may ask for.
 pub const RTOL_RANGE: [f64; 2] = [1e-14, 1e-1];
@@ -103,13 +103,14 @@ impl Places<'_> {
 /// Every problem found (see the [module documentation](super)); nothing has been
 /// written.
 pub fn resolve(
+    catalogue: &'static Catalogue,
     source: Option<&Source>,
     scenario: &Scenario,
     overrides: &Overrides,
     name: &str,
 ) -> Result<Plan, Diagnostics> {
     let mut d = scenario.read_errors.clone();
-    let plan = resolve_into(source, scenario, overrides, name, &mut d);
+    let plan = resolve_into(catalogue, source, scenario, overrides, name, &mut d);
     match plan {
         Some(plan) if d.is_empty() => Ok(plan),
         _ => {
@@ -121,6 +122,7 @@ pub fn resolve(
 
 /// [`resolve`], with the diagnostics pushed into `d` as found.
 fn resolve_into(
+    catalogue: &'static Catalogue,
     source: Option<&Source>,
     scenario: &Scenario,
     overrides: &Overrides,
@@ -128,7 +130,7 @@ fn resolve_into(
     d: &mut Diagnostics,
 ) -> Option<Plan> {
     let places = Places { source };
-    let entry = match catalog::find(&scenario.model) {
+    let entry = match catalogue.find(&scenario.model) {
         Ok(entry) => entry,
         Err(e) => {
             let origin = match source {
@@ -168,6 +170,7 @@ fn resolve_into(
         sampling: sampling(entry, scenario, overrides),
         parameter_origins: origins.clone(),
         started: SystemTime::now(),
+        program: Program::of(catalogue),
     });
     let base = |times: Vec<f64>, solver: Solver| RunPlan {
         params: params.clone(),
@@ -181,7 +184,7 @@ fn resolve_into(
         context: context.clone(),
     };
     if let (Some(spec), Some(times)) = (&scenario.monte_carlo, &times) {
-        let plan = base(times.clone(), solver.unwrap_or_else(entry.solver));
+        let plan = base(times.clone(), solver.unwrap_or(entry.solver));
         return match study(entry, spec, plan, &origins, &places, d) {
             Some(study) if d.is_empty() => Some(Plan {
                 entry,
@@ -194,7 +197,7 @@ fn resolve_into(
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
         (Some(spec), Some(times), solver) => {
             // A rejected solver is reported already; the sweep is checked all the same.
-            let plan = base(times, solver.unwrap_or_else(entry.solver));
+            let plan = base(times, solver.unwrap_or(entry.solver));
             match sweep(entry, spec, plan, &origins, &places, d) {
                 Some(sweep) if d.is_empty() => Job::Sweep(sweep),
                 _ => return None,
@@ -317,7 +320,7 @@ fn initial_conditions(
                 origin,
                 format!(
                     "unknown state `{name}`; {}",
-                    name_list("states", entry.name, states, "--states")
+                    name_list("states", &entry.name, states, "--states")
                 ),
             );
             continue;
@@ -496,7 +499,7 @@ pub(super) fn column(
     origin: Origin,
     d: &mut Diagnostics,
 ) -> Option<Vec<(String, Column)>> {
-    let found = resolve_columns(entry.model, name);
+    let found = resolve_columns(&*entry.model, name);
     if found.is_none() {
         let groups = output_groups(entry);
         d.push(
@@ -536,7 +539,7 @@ fn record(
     Some(columns)
 }
 
-/// `plots`, checked against the figure ids (quick return) or the outputs.
+/// `plots`, checked against the figure ids of the entry's extras, or the outputs.
 fn plots(
     entry: &Entry,
     scenario: &Scenario,
@@ -556,18 +559,13 @@ fn plots(
         Some("none") => return Plots::None,
         _ => {}
     }
-    let valid: Vec<String> = match entry.results {
-        ResultsKind::QuickReturn => catalog::figure_ids()
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect(),
-        ResultsKind::Trajectory => entry
-            .model
-            .output_names()
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect(),
-    };
+    let valid: Vec<String> = entry
+        .extras
+        .figure_ids()
+        .unwrap_or(entry.model.output_names())
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect();
     let Some(names) = plot_names(value) else {
         d.push(
             origin,
@@ -609,7 +607,7 @@ fn figures_draw_something(
             "`plots` lists no figure; write `plots: none` to draw none",
         );
     }
-    let (ResultsKind::Trajectory, Some(record)) = (entry.results, record) else {
+    let (None, Some(record)) = (entry.extras.figure_ids(), record) else {
         return;
     };
     let recorded = |name: &str| record.iter().any(|(n, _)| n == name);

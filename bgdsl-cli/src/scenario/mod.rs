@@ -70,12 +70,12 @@
 //!
 //! - **`monte_carlo`** runs `samples` runs with the listed parameters drawn (sample
 //!   `i` from its own random stream, fixed by `seed` and `i`:
-//!   [`study::distribution`](bgdsl_cli::study::distribution)), the others as set, and
+//!   [`study::distribution`](crate::study::distribution)), the others as set, and
 //!   writes `samples.csv` (`index`, the drawn values, then for each banded column
 //!   `peak_<c>` (the largest magnitude over the span) and `final_<c>` (the value at
 //!   the end)), `trajectories.csv` (`index`, `t`, the banded columns: every sample at
 //!   every time), `bands.csv` (`t`, then for each banded column its 5, 25, 50, 75 and
-//!   95 % quantiles over the samples, type 7: [`study::bands`](bgdsl_cli::study::bands))
+//!   95 % quantiles over the samples, type 7: [`study::bands`](crate::study::bands))
 //!   and one band chart per column. The banded columns are those `output.record`
 //!   names, by default the model's outputs. A drawn parameter cannot also be set or
 //!   swept; every sample's parameters are checked physically before anything runs.

@@ -13,19 +13,17 @@ use bgdsl_runtime::{CsvError, Model, Recorder, Simulation, Solver, SolverError, 
 use serde::de::DeserializeOwned;
 use serde_yaml::{Mapping, Value};
 
+use bgdsl_runtime::FromParams;
+
 use super::columns::{all_columns, resolve_columns, write_units, Table};
 use super::events::{self, EventCollector};
-use super::figures;
+use super::extras::{ExtraRun, Finished, RunContext};
 use super::folder::RunFolder;
 use super::params::format_significant;
-use super::{Catalogued, Column, Entry, ResultsKind};
+use super::{addons, figures};
+use super::{Column, Entry};
 use crate::provenance::{self, Context};
-use crate::quick_return::figures::DrawnFigure;
-use crate::quick_return::results::{Results, COLUMNS, FILE_NAME};
-use crate::quick_return::run::{Error as QuickReturnError, Recorded};
-use crate::quick_return::summary::{SolverSettings, Summary};
-use crate::quick_return_rigid::DrivenMechanism;
-use crate::report::INDEX_FILE;
+use crate::report::{DrawnFigure, INDEX_FILE};
 
 /// Which figures a run draws.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -35,8 +33,8 @@ pub enum Plots {
     /// All of them (the default).
     #[default]
     All,
-    /// Those with these ids (for the quick return, ids of
-    /// `quick_return::figures::FIGURE_IDS`; for other models, output names).
+    /// Those with these ids (output names, or the ids of the entry's
+    /// [`Extras::figure_ids`](super::Extras::figure_ids)).
     Only(Vec<String>),
 }
 
@@ -51,9 +49,8 @@ pub struct RunPlan {
     pub times: Vec<f64>,
     /// The solver and its settings.
     pub solver: Solver,
-    /// The states and outputs to record: for the quick return, extra columns for
-    /// `quick_return_extra.csv` (`None`: no such file); for other models the columns of
-    /// `<name>.csv` (`None`: every state and output).
+    /// The states and outputs to record into the table `<name>.csv` (`None`: the
+    /// entry's [`Entry::record`], by default every state and output).
     pub record: Option<Vec<(String, Column)>>,
     /// Which figures to draw.
     pub plots: Plots,
@@ -148,8 +145,8 @@ pub enum RunError {
     },
     /// A CSV file could not be written.
     Csv(CsvError),
-    /// The quick return's results could not be recorded or written.
-    Results(QuickReturnError),
+    /// An entry's extras could not record or write their results.
+    Results(Box<dyn std::error::Error + Send + Sync>),
     /// The results were written but drawing the figures or the index failed.
     Figures(String),
     /// A point of a sweep was not run: the sweep was interrupted first.
@@ -191,7 +188,7 @@ impl std::error::Error for RunError {
             RunError::Solver { source, .. } => Some(source),
             RunError::Io { source, .. } => Some(source),
             RunError::Csv(e) => Some(e),
-            RunError::Results(e) => Some(e),
+            RunError::Results(e) => Some(&**e),
             RunError::Params(_)
             | RunError::Figures(_)
             | RunError::NotRun
@@ -207,24 +204,17 @@ impl From<CsvError> for RunError {
 }
 
 /// The model's parameter struct from the mapping of every parameter.
-pub(super) fn params_from<P: DeserializeOwned>(params: &Mapping) -> Result<P, RunError> {
+///
+/// # Errors
+///
+/// [`RunError::Params`] when the mapping does not fit the struct.
+pub fn params_from<P: DeserializeOwned>(params: &Mapping) -> Result<P, RunError> {
     serde_yaml::from_value(Value::Mapping(params.clone()))
         .map_err(|e| RunError::Params(e.to_string()))
 }
 
-/// The rigid mechanism a quick return model's parameters describe, for its figures and
-/// summary.
-fn mechanism<M: Catalogued>(params: &M::Params) -> Result<DrivenMechanism, RunError> {
-    M::mechanism(params).ok_or_else(|| {
-        RunError::Params(format!(
-            "{} writes the quick return's results but describes no rigid mechanism",
-            M::NAME
-        ))
-    })
-}
-
-/// The model's initial state with the plan's replacements.
-pub(super) fn initial_state<M: Model>(model: &M, initial: &[(usize, f64)]) -> Vec<f64> {
+/// The model's initial state with the plan's replacements `(state index, value)`.
+pub fn initial_state<M: Model>(model: &M, initial: &[(usize, f64)]) -> Vec<f64> {
     let mut x0 = vec![0.0; M::N_STATES];
     model.initial_state(&mut x0);
     for &(i, v) in initial {
@@ -344,32 +334,36 @@ fn integrate<'a, M: Model>(
 }
 
 /// Runs a model of the catalogue (see the [module documentation](self)).
-pub(super) fn run_model<M: Catalogued>(
+pub(super) fn run_model<M>(
     entry: &Entry,
     plan: &RunPlan,
     observer: &dyn Observer,
 ) -> Result<Outcome, RunError>
 where
+    M: FromParams + bgdsl_runtime::Model,
     M::Params: DeserializeOwned,
 {
     let model = M::from_params(params_from(&plan.params)?);
     // Room for the samples up front, up to a million (beyond, the columns grow).
     let n = plan.times.len().min(1 << 20);
-    let quick = entry.results == ResultsKind::QuickReturn;
-    let mut results = if quick {
-        Some(Results::for_model::<M>(n).map_err(RunError::Results)?)
-    } else {
-        None
+    let context = RunContext {
+        entry,
+        plan,
+        capacity: n,
     };
-    let selection = match (&plan.record, quick) {
-        (Some(chosen), _) => chosen.clone(),
-        (None, true) => entry_extras(entry),
-        (None, false) => all_columns(entry.model),
+    let mut extra_runs: Vec<Box<dyn ExtraRun + '_>> = Vec::new();
+    if let Some(extra) = entry.extras.start(&context)? {
+        extra_runs.push(extra);
+    }
+    extra_runs.extend(addons::start(&model, &context)?);
+    let selection = match &plan.record {
+        Some(chosen) => chosen.clone(),
+        None => default_columns(entry),
     };
     let mut table = (!selection.is_empty()).then(|| Table::new(&selection, n));
     let mut recorders: Vec<&mut dyn Recorder> = Vec::new();
-    if let Some(r) = results.as_mut() {
-        recorders.push(r);
+    for extra in &mut extra_runs {
+        recorders.push(&mut **extra);
     }
     if let Some(t) = table.as_mut() {
         recorders.push(t);
@@ -388,9 +382,15 @@ where
         .as_ref()
         .map(|c| events::energies(&model, &c.log))
         .unwrap_or_default();
-    if let (Some(c), Some(results)) = (&collector, results.as_mut()) {
-        for (e, change) in c.log.iter().zip(&event_energies) {
-            results.push_event_energy(e.t, change.unwrap_or(0.0));
+    if let Some(c) = &collector {
+        let energies: Vec<(f64, f64)> = c
+            .log
+            .iter()
+            .zip(&event_energies)
+            .map(|(e, change)| (e.t, change.unwrap_or(0.0)))
+            .collect();
+        for extra in &mut extra_runs {
+            extra.events(&energies);
         }
     }
 
@@ -400,27 +400,16 @@ where
     let mut results_files = Vec::new();
     let mut unit_files = Vec::new();
     let writing = Instant::now();
-    let stem = if quick {
-        FILE_NAME.trim_end_matches(".csv")
-    } else {
-        entry.name
-    };
-    if let Some(results) = &results {
-        let name = format!("{stem}.csv");
-        let path = dir.join(&name);
-        results.write_csv(&path).map_err(RunError::Results)?;
-        unit_files.push(write_units(entry.model, &path, &COLUMNS)?);
-        results_files.push(name);
+    for extra in &mut extra_runs {
+        let written = extra.write(dir)?;
+        results_files.extend(written.results);
+        unit_files.extend(written.others);
     }
     if let Some(table) = &table {
-        let name = if quick {
-            format!("{stem}_extra.csv")
-        } else {
-            format!("{stem}.csv")
-        };
+        let name = format!("{}.csv", entry.extras.table_stem(entry));
         let path = dir.join(&name);
         table.write_csv(&path)?;
-        unit_files.push(write_units(entry.model, &path, &table.names())?);
+        unit_files.push(write_units(&*entry.model, &path, &table.names())?);
         results_files.push(name);
     }
     if let Some(c) = &collector {
@@ -438,21 +427,7 @@ where
     let drawing = if failure.is_none() && observer.stop_requested() {
         Ok(Vec::new())
     } else {
-        match (&plan.plots, &results, &table) {
-            (Plots::None, _, _) => Ok(Vec::new()),
-            (plots, Some(results), table) => params_from::<M::Params>(&plan.params)
-                .and_then(|params| mechanism::<M>(&params))
-                .and_then(|mechanism| figures::quick_return(results, &mechanism, dir, plots))
-                .and_then(|mut drawn| {
-                    // The extra columns an entry records by default are drawn too.
-                    if let (Some(table), true) = (table, plan.record.is_none()) {
-                        drawn.extend(figures::trajectory(entry, table, dir, &Plots::All)?);
-                    }
-                    Ok(drawn)
-                }),
-            (plots, None, Some(table)) => figures::trajectory(entry, table, dir, plots),
-            (_, None, None) => Ok(Vec::new()),
-        }
+        draw(entry, plan, &extra_runs, table.as_ref(), dir)
     };
     let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
     let partial = failure.is_some();
@@ -461,31 +436,17 @@ where
     // The summary names the files where they will be once committed.
     let target = folder.target(partial);
     let results_paths: Vec<PathBuf> = results_files.iter().map(|n| target.join(n)).collect();
-    let mut summary = match &results {
-        Some(results) => {
-            let recorded = Recorded {
-                results: results.clone(),
-                stats: run.stats,
-                solver: plan.solver,
-                wall: run.wall,
-            };
-            // The second half of the span recorded (of the plan's, for a complete run).
-            let t = results.times();
-            let (t0, t_end) = match (t.first(), t.last()) {
-                (Some(&a), Some(&b)) => (a, b),
-                _ => (0.0, 0.0),
-            };
-            let mut summary = Summary::over(&recorded, [0.5 * (t0 + t_end), t_end]);
-            if let Ok(mechanism) =
-                params_from::<M::Params>(&plan.params).and_then(|p| mechanism::<M>(&p))
-            {
-                summary = summary.with_params(&mechanism);
-            }
-            summary.file = Some((results_paths[0].clone(), write_time));
-            summary.failure = failure.clone();
-            summary.overrides = Some(provenance::summary_lines(entry, plan, &[]));
-            summary.to_string()
-        }
+    let finished = Finished {
+        entry,
+        plan,
+        stats: run.stats,
+        wall: run.wall,
+        write_time,
+        failure: failure.as_deref(),
+        results: &results_paths,
+    };
+    let mut summary = match extra_runs.iter().find_map(|x| x.summary(&finished)) {
+        Some(summary) => summary,
         None => trajectory_summary(
             entry,
             plan,
@@ -503,24 +464,8 @@ where
             &event_energies,
         ));
     }
-    // A partial run has nothing settled to compare (and an interrupt asked to stop).
-    if let (Some(compare), None) = (entry.compare, &failure) {
-        summary.push_str(&super::compare::summary::<M>(
-            entry,
-            compare,
-            plan,
-            results.as_ref(),
-        ));
-    }
-    if table.is_some() && quick {
-        summary.push_str(&format!(
-            "extra columns  {}\n",
-            results_paths
-                .iter()
-                .rfind(|p| p.to_string_lossy().ends_with("_extra.csv"))
-                .map(|p| p.display().to_string())
-                .unwrap_or_default()
-        ));
+    for extra in &extra_runs {
+        summary.push_str(&extra.summary_tail(&finished));
     }
     let figure_files = drawn.iter().map(|f| f.files.len()).sum::<usize>();
     if !drawn.is_empty() {
@@ -532,7 +477,8 @@ where
     }
     summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
     provenance::write_run(dir, entry, plan, &results_paths, failure.as_deref())?;
-    figures::index(dir, &plan.title, &summary, &drawn)?;
+    let sections: Vec<String> = extra_runs.iter().flat_map(|x| x.sections()).collect();
+    figures::index(dir, &plan.title, &summary, &drawn, &sections)?;
     let target = folder.commit(partial)?;
     let in_target = |path: &PathBuf| target.join(path.file_name().unwrap_or_default());
     let mut files = results_paths;
@@ -550,19 +496,48 @@ where
     })
 }
 
-/// The columns a quick return entry records by default into `quick_return_extra.csv`
-/// (its [`Entry::extra`] outputs and states), and draws one chart each of.
-fn entry_extras(entry: &Entry) -> Vec<(String, Column)> {
-    entry
-        .extra
-        .iter()
-        .filter_map(|name| resolve_columns(entry.model, name))
-        .flatten()
-        .collect()
+/// Draws a run's figures: the extras' first, then the table's charts (of the outputs,
+/// or those `plots` names; for an entry whose extras have figures of their own, of
+/// the columns it records by default only).
+fn draw(
+    entry: &Entry,
+    plan: &RunPlan,
+    extra_runs: &[Box<dyn ExtraRun + '_>],
+    table: Option<&Table>,
+    dir: &Path,
+) -> Result<Vec<DrawnFigure>, RunError> {
+    if plan.plots == Plots::None {
+        return Ok(Vec::new());
+    }
+    let mut drawn = Vec::new();
+    for extra in extra_runs {
+        drawn.extend(extra.figures(dir, &plan.plots)?);
+    }
+    if let Some(table) = table {
+        if entry.extras.figure_ids().is_none() {
+            drawn.extend(figures::trajectory(entry, table, dir, &plan.plots)?);
+        } else if plan.record.is_none() {
+            drawn.extend(figures::trajectory(entry, table, dir, &Plots::All)?);
+        }
+    }
+    Ok(drawn)
 }
 
-/// The summary of a run of a model other than the quick return: the run, then each
-/// recorded column's minimum, maximum and last value.
+/// The columns an entry records when the plan names none: its [`Entry::record`], or
+/// every state and output.
+fn default_columns(entry: &Entry) -> Vec<(String, Column)> {
+    match entry.record {
+        Some(names) => names
+            .iter()
+            .filter_map(|name| resolve_columns(&*entry.model, name))
+            .flatten()
+            .collect(),
+        None => all_columns(&*entry.model),
+    }
+}
+
+/// The generic summary of a run: the run, then each recorded column's minimum, maximum
+/// and last value.
 fn trajectory_summary(
     entry: &Entry,
     plan: &RunPlan,
@@ -630,7 +605,7 @@ fn trajectory_summary(
                 });
             let last = values.last().copied().unwrap_or(f64::NAN);
             let [lo, hi, last] = [lo, hi, last].map(format_significant);
-            let unit = super::columns::column_unit(entry.model, name).0;
+            let unit = super::columns::column_unit(&*entry.model, name).0;
             let line = format!("  {name:<width$}  {lo:>14} {hi:>14} {last:>14}  {unit}");
             let _ = writeln!(s, "{}", line.trim_end());
         }
@@ -639,7 +614,7 @@ fn trajectory_summary(
 }
 
 /// Runs one point of a sweep: the metrics' peaks over `window`.
-pub(super) fn sweep_point<M: Catalogued>(
+pub(super) fn sweep_point<M: FromParams>(
     plan: &RunPlan,
     metrics: &[super::Metric],
     window: [f64; 2],
@@ -660,6 +635,27 @@ where
     }
 }
 
+/// The solver's name and its main settings, e.g. `radau5 (rtol 1e-6, atol 1e-10)`.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverSettings<'a>(pub &'a Solver);
+
+impl fmt::Display for SolverSettings<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let name = self.0.name();
+        match self.0 {
+            Solver::Radau5(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
+            Solver::Rodas4(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
+            Solver::DormandPrince(o) => {
+                write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol)
+            }
+            Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
+                write!(f, "{name} (step {:e} s)", o.step)
+            }
+            _ => f.write_str(name),
+        }
+    }
+}
+
 /// Records the values of some columns at every sample: row-major, times then columns.
 struct Samples<'a> {
     columns: &'a [Column],
@@ -675,7 +671,7 @@ impl Recorder for Samples<'_> {
 
 /// Runs one sample of a study and returns `columns` at every sample time (row-major:
 /// times, then columns).
-pub(super) fn trajectory<M: Catalogued>(
+pub(super) fn trajectory<M: FromParams>(
     plan: &RunPlan,
     columns: &[Column],
     observer: &dyn Observer,

@@ -1,8 +1,7 @@
 //! The size guard's estimates: how much a run writes, how much work a sweep is.
 
-use super::{Entry, ResultsKind, RunPlan, SweepPlan};
+use super::{Entry, RunPlan, SweepPlan};
 use crate::plot::decimate::thousands;
-use crate::quick_return::results::N_COLUMNS;
 
 /// The most bytes one number takes in a results CSV, with its separator: the shortest
 /// decimal that reads back to an `f64` has at most 17 significant digits, a sign, a
@@ -24,17 +23,20 @@ pub const MAX_SWEEP_SECONDS: f64 = 3600.0;
 /// first (or needs `--yes`).
 pub const MAX_SWEEP_SAMPLES: u64 = 100_000_000;
 
-/// The columns of every results file a run of `entry` with `plan` writes.
+/// The columns of every results file a run of `entry` with `plan` writes: the
+/// extras' ([`Extras::result_columns`](super::Extras::result_columns)), and the table's
+/// (`t` and the recorded columns) when it records any.
 pub fn results_columns(entry: &Entry, plan: &RunPlan) -> u64 {
-    let recorded = |all: usize| 1 + plan.record.as_ref().map_or(all, |chosen| chosen.len()) as u64;
-    match entry.results {
-        ResultsKind::QuickReturn => {
-            N_COLUMNS as u64 + plan.record.as_ref().map_or(0, |c| 1 + c.len() as u64)
-        }
-        ResultsKind::Trajectory => {
-            recorded(entry.model.state_names().len() + entry.model.output_names().len())
-        }
-    }
+    let table = match (&plan.record, entry.record) {
+        (Some(chosen), _) => chosen.len(),
+        (None, Some(names)) => names
+            .iter()
+            .filter_map(|name| super::resolve_columns(&*entry.model, name))
+            .map(|group| group.len())
+            .sum(),
+        (None, None) => entry.model.state_names().len() + entry.model.output_names().len(),
+    } as u64;
+    entry.extras.result_columns() + if table > 0 { 1 + table } else { 0 }
 }
 
 /// At most how many bytes a run's results files take: rows × columns ×

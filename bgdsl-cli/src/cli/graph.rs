@@ -5,11 +5,13 @@ use std::process::{Command, Stdio};
 
 use super::info::print;
 use super::Failure;
-use crate::catalog;
+use crate::catalog::Catalogue;
 
 /// `models graph <model> [--svg]`.
-pub(super) fn graph(name: &str, svg: bool) -> Result<(), Failure> {
-    let entry = catalog::find(name).map_err(|e| Failure::Usage(e.to_string()))?;
+pub(super) fn graph(catalogue: &Catalogue, name: &str, svg: bool) -> Result<(), Failure> {
+    let entry = catalogue
+        .find(name)
+        .map_err(|e| Failure::Usage(e.to_string()))?;
     let graph = entry.model.causal_graph().ok_or_else(|| {
         Failure::Usage(format!("model `{name}` does not describe its causal graph"))
     })?;

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use bgdsl_cli::study::distribution::{draw, Distribution};
+use crate::study::distribution::{draw, Distribution};
 use serde_yaml::{Mapping, Value};
 
 use super::locate::KeyPath;
@@ -102,7 +102,7 @@ pub(super) fn study(
     }
     let columns = match &base.record {
         Some(record) => record.clone(),
-        None => all_outputs(entry.model),
+        None => all_outputs(&*entry.model),
     };
     if columns.is_empty() {
         d.push(

@@ -1,16 +1,36 @@
-//! The one implementation of [`CatalogModel`], for every [`Catalogued`] model.
+//! The one implementation of [`CatalogModel`], for every model [`Entry::of`] accepts.
 
-use bgdsl_runtime::{CausalGraph, ParameterInfo};
+use core::marker::PhantomData;
+
+use bgdsl_runtime::{CausalGraph, FromParams, ParameterInfo, WithInputs};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use serde_yaml::{Mapping, Value};
 
+use super::entry::CheckFn;
 use super::run::{initial_state, params_from, run_model, sweep_point, trajectory};
-use super::{Adapter, CatalogModel, Catalogued, Checks, Entry, Metric, Observer, Outcome};
+use super::{CatalogModel, Checks, Entry, Metric, Observer, Outcome};
 use super::{Problem, RunError, RunPlan};
 
-impl<M: Catalogued> CatalogModel for Adapter<M>
+/// Model `M` behind [`CatalogModel`], with its entry's physical checks.
+pub(super) struct Adapter<M: FromParams> {
+    checks: Option<CheckFn<M::Params>>,
+    model: PhantomData<fn() -> M>,
+}
+
+impl<M: FromParams> Adapter<M> {
+    /// The adapter of `M` with these checks.
+    pub(super) fn new(checks: Option<CheckFn<M::Params>>) -> Self {
+        Adapter {
+            checks,
+            model: PhantomData,
+        }
+    }
+}
+
+impl<M> CatalogModel for Adapter<M>
 where
+    M: FromParams + WithInputs + Default + 'static,
     M::Params: Serialize + DeserializeOwned,
 {
     fn inputs(&self) -> &'static [bgdsl_runtime::InputInfo] {
@@ -72,7 +92,11 @@ where
         }
         let found = checks.count();
         match params_from::<M::Params>(&usable) {
-            Ok(p) => M::check_params(&p, &mut checks),
+            Ok(p) => {
+                if let Some(check) = self.checks {
+                    check(&p, &mut checks);
+                }
+            }
             Err(e) => checks.problem(&[], e.to_string()),
         }
         let mut problems = checks.into_problems();

@@ -6,7 +6,8 @@
 //! samples were asked for, where each parameter was set); [`write_run`] and
 //! [`write_sweep`] write it. `run.yaml` holds:
 //!
-//! - `program`: `models`, its version, the git commit it was built from and whether
+//! - `program`: the program's name (`models` here), its version, the git commit it was
+//!   built from (see [`Catalogue::commit`](crate::Catalogue::commit)) and whether
 //!   the working tree had uncommitted changes to tracked files (`unknown`/`null` when
 //!   it was not built from a git checkout);
 //! - `started` (UTC, RFC 3339), the `command_line` and the `outcome`: `complete`, or
@@ -43,7 +44,7 @@ use bgdsl_runtime::Solver;
 use serde::{Deserialize, Serialize};
 use serde_yaml::{Mapping, Value};
 
-use crate::catalog::{Entry, Plots, RunError, RunPlan, SweepPlan};
+use crate::catalog::{Catalogue, Entry, Plots, RunError, RunPlan, SweepPlan};
 use crate::scenario::{Origin, Source};
 use overrides::initial_states;
 
@@ -72,6 +73,8 @@ pub struct Context {
     pub parameter_origins: BTreeMap<String, Origin>,
     /// When the plan was made, just before the run.
     pub started: SystemTime,
+    /// The program that runs the plan.
+    pub program: Program,
 }
 
 impl Default for Context {
@@ -82,6 +85,7 @@ impl Default for Context {
             sampling: None,
             parameter_origins: BTreeMap::new(),
             started: SystemTime::now(),
+            program: Program::unknown(),
         }
     }
 }
@@ -89,7 +93,7 @@ impl Default for Context {
 /// The program that wrote a record.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Program {
-    /// `models`.
+    /// Its name, e.g. `models`.
     pub name: String,
     /// The crate's version.
     pub version: String,
@@ -101,17 +105,23 @@ pub struct Program {
 }
 
 impl Program {
-    /// This program, as its build script found it.
-    pub fn this() -> Self {
+    /// The program of `catalogue`: its name, version and commit.
+    pub fn of(catalogue: &Catalogue) -> Self {
         Program {
-            name: "models".to_owned(),
+            name: catalogue.program.clone(),
+            version: catalogue.version.clone(),
+            commit: catalogue.commit.0.clone(),
+            dirty: catalogue.commit.1,
+        }
+    }
+
+    /// A program not known: `bgdsl`, this library's version, commit `unknown`.
+    pub fn unknown() -> Self {
+        Program {
+            name: "bgdsl".to_owned(),
             version: env!("CARGO_PKG_VERSION").to_owned(),
-            commit: env!("MODELS_GIT_COMMIT").to_owned(),
-            dirty: match env!("MODELS_GIT_DIRTY") {
-                "true" => Some(true),
-                "false" => Some(false),
-                _ => None,
-            },
+            commit: "unknown".to_owned(),
+            dirty: None,
         }
     }
 }
@@ -407,7 +417,7 @@ impl RunRecord {
             }
         };
         Ok(RunRecord {
-            program: Program::this(),
+            program: context.program.clone(),
             started: humantime::format_rfc3339_seconds(context.started).to_string(),
             command_line: context.command_line.clone(),
             outcome: RunOutcome::of(failure),

@@ -111,7 +111,7 @@ pub(super) fn sweep(
             let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
             metrics.push(Metric {
                 name: name.clone(),
-                unit: metric_unit(entry.model, &names),
+                unit: metric_unit(&*entry.model, &names),
                 columns: columns.into_iter().map(|(_, c)| c).collect(),
             });
         }
