@@ -122,8 +122,6 @@ pub mod size;
 mod study;
 mod sweep;
 
-
-
 use bgdsl_runtime::{CausalGraph, ParameterInfo};
 use serde_yaml::Mapping;
 
@@ -132,10 +130,10 @@ pub use columns::{resolve_columns, write_units, Column};
 pub use entry::{Catalogue, Entry, EntryOf, UnknownModel};
 pub use extras::{ExtraRun, Extras, Finished, NoExtras, RunContext, Written};
 pub use figures::plot_error;
-pub use params::{format_number, format_significant};
 pub use params::{
     describe_value, format_value, overflow_message, overflowing_number, parse_value, set_parameter,
 };
+pub use params::{format_number, format_significant};
 pub use run::{
     create_dir as create_output_dir, initial_state, params_from, Observer, Outcome, Plots,
     RunError, RunPlan, Silent, SolverSettings,

@@ -152,7 +152,7 @@ pub fn catalogue() -> Catalogue {
                 .solver(flagship_solver())
                 .checks(QuickReturn::check_params)
                 .record(&[])
-                .extras(QuickReturnExtras::<QuickReturn>::new())
+                .extras(QuickReturnExtras::<QuickReturn>::new()),
         )
         .entry(
             Entry::of::<QuickReturnRigid>()
@@ -166,7 +166,7 @@ pub fn catalogue() -> Catalogue {
                 .solver(rigid_solver())
                 .checks(QuickReturnRigid::check_params)
                 .record(&[])
-                .extras(QuickReturnExtras::<QuickReturnRigid>::new())
+                .extras(QuickReturnExtras::<QuickReturnRigid>::new()),
         )
         .entry(
             Entry::of::<QuickReturnRigidCoupled>()
@@ -180,7 +180,7 @@ pub fn catalogue() -> Catalogue {
                 .solver(coupled_solver())
                 .checks(QuickReturnRigidCoupled::check_params)
                 .record(&[])
-                .extras(QuickReturnExtras::<QuickReturnRigidCoupled>::new())
+                .extras(QuickReturnExtras::<QuickReturnRigidCoupled>::new()),
         )
         .entry(
             Entry::of::<QuickReturnFriction>()
@@ -194,7 +194,9 @@ pub fn catalogue() -> Catalogue {
                 .solver(flagship_solver())
                 .checks(QuickReturnFriction::check_params)
                 .record(FRICTION_COLUMNS)
-                .extras(QuickReturnExtras::<QuickReturnFriction>::compared_with(&WITHOUT_FRICTION))
+                .extras(QuickReturnExtras::<QuickReturnFriction>::compared_with(
+                    &WITHOUT_FRICTION,
+                )),
         )
         .entry(
             Entry::of::<QuickReturnEndStop>()
@@ -208,7 +210,9 @@ pub fn catalogue() -> Catalogue {
                 .solver(flagship_solver())
                 .checks(QuickReturnEndStop::check_params)
                 .record(STOP_COLUMNS)
-                .extras(QuickReturnExtras::<QuickReturnEndStop>::compared_with(&WITHOUT_STOP))
+                .extras(QuickReturnExtras::<QuickReturnEndStop>::compared_with(
+                    &WITHOUT_STOP,
+                )),
         )
         .entry(
             Entry::of::<BouncingBall>()
@@ -220,7 +224,7 @@ pub fn catalogue() -> Catalogue {
                 .t_end(5.0)
                 .interval(1e-3)
                 .solver(event_solver())
-                .checks(BouncingBall::check_params)
+                .checks(BouncingBall::check_params),
         )
         .entry(
             Entry::of::<HalfWaveRectifier>()
@@ -232,7 +236,7 @@ pub fn catalogue() -> Catalogue {
                 .t_end(0.1)
                 .interval(1e-5)
                 .solver(rectifier_solver())
-                .checks(HalfWaveRectifier::check_params)
+                .checks(HalfWaveRectifier::check_params),
         )
         .entry(
             Entry::of::<HalfWaveRectifierExp>()
@@ -243,7 +247,7 @@ pub fn catalogue() -> Catalogue {
                 .t_end(0.1)
                 .interval(1e-5)
                 .solver(Solver::stiff())
-                .checks(HalfWaveRectifierExp::check_params)
+                .checks(HalfWaveRectifierExp::check_params),
         )
         .entry(
             Entry::of::<BeltFriction>()
@@ -255,18 +259,16 @@ pub fn catalogue() -> Catalogue {
                 .t_end(20.0)
                 .interval(1e-3)
                 .solver(event_solver())
-                .checks(BeltFriction::check_params)
+                .checks(BeltFriction::check_params),
         )
         .entry(
             Entry::of::<EndStop>()
                 .name("end_stop")
-                .description(
-                    "a mass on a spring hitting an end stop with restitution",
-                )
+                .description("a mass on a spring hitting an end stop with restitution")
                 .t_end(5.0)
                 .interval(1e-3)
                 .solver(event_solver())
-                .checks(EndStop::check_params)
+                .checks(EndStop::check_params),
         )
         .entry(
             Entry::of::<ClutchEngagement>()
@@ -277,29 +279,25 @@ pub fn catalogue() -> Catalogue {
                 .t_end(5.0)
                 .interval(1e-3)
                 .solver(event_solver())
-                .checks(ClutchEngagement::check_params)
+                .checks(ClutchEngagement::check_params),
         )
         .entry(
             Entry::of::<Oscillator>()
                 .name("oscillator")
-                .description(
-                    "a mass on a spring with a damper, pushed by a constant force",
-                )
+                .description("a mass on a spring with a damper, pushed by a constant force")
                 .t_end(10.0)
                 .interval(1e-2)
                 .solver(Solver::stiff())
-                .checks(Oscillator::check_params)
+                .checks(Oscillator::check_params),
         )
         .entry(
             Entry::of::<SeriesRlc>()
                 .name("rlc")
-                .description(
-                    "a series RLC circuit switched onto a voltage source",
-                )
+                .description("a series RLC circuit switched onto a voltage source")
                 .t_end(0.01)
                 .interval(1e-5)
                 .solver(Solver::stiff())
-                .checks(SeriesRlc::check_params)
+                .checks(SeriesRlc::check_params),
         )
         .entry(
             Entry::of::<DcMotor>()
@@ -311,29 +309,25 @@ pub fn catalogue() -> Catalogue {
                 .t_end(1.0)
                 .interval(1e-3)
                 .solver(Solver::stiff())
-                .checks(DcMotor::check_params)
+                .checks(DcMotor::check_params),
         )
         .entry(
             Entry::of::<QuarterCar>()
                 .name("quarter_car")
-                .description(
-                    "the quarter-car suspension model driving over a bump",
-                )
+                .description("the quarter-car suspension model driving over a bump")
                 .t_end(3.0)
                 .interval(1e-3)
                 .solver(road_solver())
-                .checks(QuarterCar::check_params)
+                .checks(QuarterCar::check_params),
         )
         .entry(
             Entry::of::<Duffing>()
                 .name("duffing")
-                .description(
-                    "the forced Duffing oscillator: a mass on a cubic hardening spring",
-                )
+                .description("the forced Duffing oscillator: a mass on a cubic hardening spring")
                 .t_end(100.0)
                 .interval(1e-2)
                 .solver(Solver::stiff())
-                .checks(Duffing::check_params)
+                .checks(Duffing::check_params),
         )
         .entry(
             Entry::of::<DcServo>()
@@ -345,7 +339,7 @@ pub fn catalogue() -> Catalogue {
                 .t_end(1.0)
                 .interval(1e-3)
                 .solver(Solver::stiff())
-                .checks(DcServo::check_params)
+                .checks(DcServo::check_params),
         )
 }
 

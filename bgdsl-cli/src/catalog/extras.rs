@@ -63,7 +63,10 @@ pub trait Extras: Send + Sync {
     /// # Errors
     ///
     /// [`RunError`] when the model cannot have these extras (nothing is written).
-    fn start<'a>(&'a self, run: &RunContext<'a>) -> Result<Option<Box<dyn ExtraRun + 'a>>, RunError> {
+    fn start<'a>(
+        &'a self,
+        run: &RunContext<'a>,
+    ) -> Result<Option<Box<dyn ExtraRun + 'a>>, RunError> {
         let _ = run;
         Ok(None)
     }

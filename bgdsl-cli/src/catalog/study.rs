@@ -65,7 +65,8 @@ impl StudyPlan {
         let mut plan = self.base.clone();
         let values = draw(self.seed, index, &self.distributions());
         for (p, v) in self.parameters.iter().zip(values) {
-            plan.params.insert(Value::String(p.name.clone()), Value::from(v));
+            plan.params
+                .insert(Value::String(p.name.clone()), Value::from(v));
         }
         plan
     }
@@ -189,11 +190,9 @@ pub fn run_study(
             let result = if observer.stop_requested() {
                 Err(RunError::NotRun)
             } else {
-                entry.model.trajectory(
-                    &plan.plan_at(index),
-                    &columns,
-                    &SampleObserver(observer),
-                )
+                entry
+                    .model
+                    .trajectory(&plan.plan_at(index), &columns, &SampleObserver(observer))
             };
             observer.point_done();
             let (trajectory, error) = match result {
@@ -274,10 +273,7 @@ pub fn run_study(
         }
         None => write_study(&dir, &shape, &plan.base.times, &rows, &head, observer),
     };
-    let (files, drawn) = match written {
-        Ok(done) => done,
-        Err(e) => return Err(e),
-    };
+    let (files, drawn) = written?;
     let (_, figures_error) = settle_drawing(drawn, &mut failure, observer)?;
     let partial = failure.is_some();
     let target = folder.commit(partial)?;
@@ -380,11 +376,23 @@ fn write_study(
         figures::bands(shape, times, &bands, traces.len(), dir)
     };
     let mut summary = String::from(head);
-    let _ = writeln!(summary, "\nat the end ({} s), over the samples:", format_significant(times.last().copied().unwrap_or(0.0)));
-    let _ = writeln!(summary, "  {:>24} {:>12} {:>12} {:>12}", "column", "q05", "q50", "q95");
+    let _ = writeln!(
+        summary,
+        "\nat the end ({} s), over the samples:",
+        format_significant(times.last().copied().unwrap_or(0.0))
+    );
+    let _ = writeln!(
+        summary,
+        "  {:>24} {:>12} {:>12} {:>12}",
+        "column", "q05", "q50", "q95"
+    );
     if let Some(last) = bands.last() {
         for ((name, unit), q) in shape.columns.iter().zip(last) {
-            let label = if unit.is_empty() { name.clone() } else { format!("{name} ({unit})") };
+            let label = if unit.is_empty() {
+                name.clone()
+            } else {
+                format!("{name} ({unit})")
+            };
             let _ = writeln!(
                 summary,
                 "  {label:>24} {:>12} {:>12} {:>12}",
@@ -399,7 +407,11 @@ fn write_study(
         Err(_) => Vec::new(),
     };
     figures::index(dir, &shape.title, &summary, &drawn_ok, &[])?;
-    let mut files = vec![SAMPLES.to_owned(), TRAJECTORIES.to_owned(), BANDS.to_owned()];
+    let mut files = vec![
+        SAMPLES.to_owned(),
+        TRAJECTORIES.to_owned(),
+        BANDS.to_owned(),
+    ];
     files.extend(drawn_ok.iter().flat_map(|f| {
         f.files
             .iter()
@@ -437,7 +449,11 @@ fn write_samples(dir: &Path, shape: &StudyShape, rows: &[SampleRow]) -> Result<(
         writeln!(out, "{}", header.join(","))?;
         for row in rows {
             write!(out, "{}", row.index)?;
-            for v in row.drawn.iter().chain(&metrics(row.trajectory.as_deref(), width)) {
+            for v in row
+                .drawn
+                .iter()
+                .chain(&metrics(row.trajectory.as_deref(), width))
+            {
                 out.write_all(b",")?;
                 write_number(out, *v)?;
             }
@@ -512,7 +528,11 @@ pub(super) fn read_table(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>), St
 }
 
 /// The rows of one Monte Carlo shard folder, and its sample times.
-fn read_shard(dir: &Path, shape: &StudyShape, m: &Manifest) -> Result<(Vec<f64>, Vec<SampleRow>), String> {
+fn read_shard(
+    dir: &Path,
+    shape: &StudyShape,
+    m: &Manifest,
+) -> Result<(Vec<f64>, Vec<SampleRow>), String> {
     let (_, samples) = read_table(&dir.join(SAMPLES))?;
     let (_, points) = read_table(&dir.join(TRAJECTORIES))?;
     let drawn = shape.parameters.len();
@@ -525,7 +545,7 @@ fn read_shard(dir: &Path, shape: &StudyShape, m: &Manifest) -> Result<(Vec<f64>,
             samples.len()
         ));
     }
-    let times_len = if count == 0 { 0 } else { points.len() / count };
+    let times_len = points.len().checked_div(count).unwrap_or(0);
     if times_len * count != points.len() {
         return Err(format!("{}: {TRAJECTORIES} is incomplete", dir.display()));
     }
@@ -536,7 +556,12 @@ fn read_shard(dir: &Path, shape: &StudyShape, m: &Manifest) -> Result<(Vec<f64>,
         .map(|(s, chunk)| SampleRow {
             index: s[0] as usize,
             drawn: s[1..1 + drawn].to_vec(),
-            trajectory: Some(chunk.iter().flat_map(|r| r[2..2 + width].iter().copied()).collect()),
+            trajectory: Some(
+                chunk
+                    .iter()
+                    .flat_map(|r| r[2..2 + width].iter().copied())
+                    .collect(),
+            ),
         })
         .collect();
     Ok((times, rows))
@@ -571,7 +596,10 @@ pub fn merge(
     match kind.as_str() {
         "monte_carlo" => merge_study(&shards, out, observer),
         "sweep" => super::sweep::merge_sweep(&shards, out, observer),
-        other => Err(vec![format!("{}: unknown kind of study `{other}`", shards[0].0.display())]),
+        other => Err(vec![format!(
+            "{}: unknown kind of study `{other}`",
+            shards[0].0.display()
+        )]),
     }
 }
 
@@ -580,14 +608,22 @@ fn merge_study(
     out: &Path,
     observer: &dyn Observer,
 ) -> Result<Result<StudyOutcome, RunError>, Vec<String>> {
-    let shape: StudyShape = serde_yaml::from_value(shards[0].1.details.clone())
-        .map_err(|e| vec![format!("{}: {}: {e}", shards[0].0.display(), manifest::FILE_NAME)])?;
+    let shape: StudyShape = serde_yaml::from_value(shards[0].1.details.clone()).map_err(|e| {
+        vec![format!(
+            "{}: {}: {e}",
+            shards[0].0.display(),
+            manifest::FILE_NAME
+        )]
+    })?;
     let mut times: Option<Vec<f64>> = None;
     let mut rows = Vec::new();
     for (dir, m) in shards {
         let (t, r) = read_shard(dir, &shape, m).map_err(|e| vec![e])?;
         if times.as_ref().is_some_and(|times| *times != t) {
-            return Err(vec![format!("{}: its sample times differ from the first shard's", dir.display())]);
+            return Err(vec![format!(
+                "{}: its sample times differ from the first shard's",
+                dir.display()
+            )]);
         }
         times = Some(t);
         rows.extend(r);

@@ -15,9 +15,9 @@ use crate::study::manifest::{self, study_hash, Manifest};
 use crate::study::shard::Shard;
 
 use super::folder::RunFolder;
-use super::study::StudyOutcome;
 use super::params::{format_number, format_significant};
 use super::run::{settle_drawing, Observer};
+use super::study::StudyOutcome;
 use super::{figures, Column, Entry, RunError, RunPlan};
 use crate::provenance;
 use crate::report::INDEX_FILE;

@@ -280,7 +280,10 @@ fn rename(command: clap::Command, program: &str) -> clap::Command {
     let mut command = command;
     for name in names {
         command = command.mut_subcommand(name, |sub| {
-            let ids: Vec<String> = sub.get_arguments().map(|a| a.get_id().to_string()).collect();
+            let ids: Vec<String> = sub
+                .get_arguments()
+                .map(|a| a.get_id().to_string())
+                .collect();
             let about = fix(sub.get_about());
             let long_about = fix(sub.get_long_about());
             let mut sub = sub;

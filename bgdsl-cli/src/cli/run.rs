@@ -188,7 +188,10 @@ fn shard_out_dir(plan: &mut Plan, shard: Shard, default_dir: bool) -> Result<(),
 }
 
 /// `models merge DIR... [--out DIR]`.
-pub(super) fn merge(dirs: &[std::path::PathBuf], out: Option<std::path::PathBuf>) -> Result<(), Failure> {
+pub(super) fn merge(
+    dirs: &[std::path::PathBuf],
+    out: Option<std::path::PathBuf>,
+) -> Result<(), Failure> {
     let out = out.unwrap_or_else(|| merged_dir(dirs));
     crate::interrupt::install_handler();
     let progress = Progress::new();

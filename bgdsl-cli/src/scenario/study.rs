@@ -10,9 +10,7 @@ use serde_yaml::{Mapping, Value};
 use super::locate::KeyPath;
 use super::resolve::Places;
 use super::{Diagnostics, MonteCarloSpec, Origin, Source};
-use crate::catalog::{
-    all_outputs, describe_value, DrawnParameter, Entry, RunPlan, StudyPlan,
-};
+use crate::catalog::{all_outputs, describe_value, DrawnParameter, Entry, RunPlan, StudyPlan};
 
 /// The most samples a study may have.
 pub const MAX_SAMPLES: usize = 1_000_000;
@@ -48,7 +46,10 @@ pub(super) fn study(
         let Some(name) = key.as_str() else {
             d.push(
                 places.file(&root.key("parameters")),
-                format!("a parameter name must be a string, found {}", describe_value(key)),
+                format!(
+                    "a parameter name must be a string, found {}",
+                    describe_value(key)
+                ),
             );
             continue;
         };
@@ -79,19 +80,16 @@ pub(super) fn study(
             }
             Some(_) => {}
         }
-        match origins.get(name) {
-            Some(origin @ (Origin::Flag(_) | Origin::File { .. })) => d.push(
+        if let Some(origin @ (Origin::Flag(_) | Origin::File { .. })) = origins.get(name) {
+            d.push(
                 origin.clone(),
                 format!(
                     "`{name}` is drawn by the study (monte_carlo.parameters), so this value \
                      would be ignored; drop it, or the distribution"
                 ),
-            ),
-            _ => {}
+            );
         }
-        let Some(distribution) =
-            distribution(value, spec.samples, &at, places, d)
-        else {
+        let Some(distribution) = distribution(value, spec.samples, &at, places, d) else {
             continue;
         };
         drawn.push(DrawnParameter {
@@ -208,7 +206,10 @@ fn distribution(
                     places.file(&here.key(name)),
                     format!(
                         "unknown key `{name}` of `{kind}`, expected {}",
-                        keys.iter().map(|k| format!("`{k}`")).collect::<Vec<_>>().join(" and ")
+                        keys.iter()
+                            .map(|k| format!("`{k}`"))
+                            .collect::<Vec<_>>()
+                            .join(" and ")
                     ),
                 );
             }

@@ -89,7 +89,11 @@ mod tests {
     #[test]
     fn bands_take_each_time_and_column_over_the_samples() {
         // Two times, two columns, three samples.
-        let s: [&[f64]; 3] = [&[0.0, 10.0, 1.0, 11.0], &[2.0, 30.0, 3.0, 31.0], &[1.0, 20.0, 2.0, 21.0]];
+        let s: [&[f64]; 3] = [
+            &[0.0, 10.0, 1.0, 11.0],
+            &[2.0, 30.0, 3.0, 31.0],
+            &[1.0, 20.0, 2.0, 21.0],
+        ];
         let b = bands(&s, 2, 2);
         assert_eq!(b[0][0][2], 1.0);
         assert_eq!(b[0][1][2], 20.0);

@@ -200,7 +200,12 @@ mod tests {
         const N: usize = 100_000;
         let cases: [(Distribution, f64, f64, f64); 3] = [
             // (distribution, mean, variance, fourth central moment)
-            (Distribution::Uniform { lo: 2.0, hi: 5.0 }, 3.5, 9.0 / 12.0, 81.0 / 80.0),
+            (
+                Distribution::Uniform { lo: 2.0, hi: 5.0 },
+                3.5,
+                9.0 / 12.0,
+                81.0 / 80.0,
+            ),
             (
                 Distribution::Normal { mean: 1.0, sd: 0.5 },
                 1.0,
@@ -213,8 +218,8 @@ mod tests {
                 let m = |k: f64| (k * mu + k * k * s2 / 2.0).exp();
                 let mean = m(1.0);
                 let var = m(2.0) - mean * mean;
-                let mu4 = m(4.0) - 4.0 * mean * m(3.0) + 6.0 * mean * mean * m(2.0)
-                    - 3.0 * mean.powi(4);
+                let mu4 =
+                    m(4.0) - 4.0 * mean * m(3.0) + 6.0 * mean * mean * m(2.0) - 3.0 * mean.powi(4);
                 (Distribution::LogNormal { mu, sigma: 0.25 }, mean, var, mu4)
             },
         ];
@@ -227,8 +232,14 @@ mod tests {
             let v = xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
             let mean_bound = 5.0 * (var / n).sqrt();
             let var_bound = 5.0 * ((mu4 - var * var) / n).sqrt();
-            assert!((m - mean).abs() < mean_bound, "{distribution:?}: mean {m} vs {mean}");
-            assert!((v - var).abs() < var_bound, "{distribution:?}: variance {v} vs {var}");
+            assert!(
+                (m - mean).abs() < mean_bound,
+                "{distribution:?}: mean {m} vs {mean}"
+            );
+            assert!(
+                (v - var).abs() < var_bound,
+                "{distribution:?}: variance {v} vs {var}"
+            );
         }
     }
 
@@ -240,11 +251,17 @@ mod tests {
             "a uniform range [lo, hi] needs lo < hi, found [1, 1]"
         );
         assert_eq!(
-            bad(Distribution::Normal { mean: 0.0, sd: -1.0 }),
+            bad(Distribution::Normal {
+                mean: 0.0,
+                sd: -1.0
+            }),
             "`sd` must be >= 0, found -1"
         );
         assert_eq!(
-            bad(Distribution::LogNormal { mu: f64::NAN, sigma: 1.0 }),
+            bad(Distribution::LogNormal {
+                mu: f64::NAN,
+                sigma: 1.0
+            }),
             "`mu` must be a finite number, found NaN"
         );
         assert_eq!(

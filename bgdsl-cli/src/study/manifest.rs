@@ -103,7 +103,9 @@ pub fn study_hash(program: &str, canonical: &str) -> String {
 /// Every problem found, one message each, naming the folders: shards of different
 /// studies (or programs, or shard counts), an incomplete shard, a shard given twice,
 /// missing shards, a manifest whose items do not match its shard.
-pub fn check(mut shards: Vec<(PathBuf, Manifest)>) -> Result<Vec<(PathBuf, Manifest)>, Vec<String>> {
+pub fn check(
+    mut shards: Vec<(PathBuf, Manifest)>,
+) -> Result<Vec<(PathBuf, Manifest)>, Vec<String>> {
     let mut errors = Vec::new();
     let Some((first_dir, first)) = shards.first().cloned() else {
         return Err(vec!["no shard folders given".to_owned()]);
@@ -228,7 +230,10 @@ mod tests {
             study_hash("p", "s"),
             "4a24ad419990992bc33bf2193db76a0a2c9ffdf35e51967e76e2fec8f73f7b48"
         );
-        assert_ne!(study_hash("models 0.1.0", "a"), study_hash("models 0.1.1", "a"));
+        assert_ne!(
+            study_hash("models 0.1.0", "a"),
+            study_hash("models 0.1.1", "a")
+        );
     }
 
     #[test]

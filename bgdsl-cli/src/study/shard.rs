@@ -57,9 +57,7 @@ impl FromStr for Shard {
     fn from_str(s: &str) -> Result<Self, String> {
         let usage = "expected K/N with 1 <= K <= N, e.g. `--shard 2/8` for the second of \
                      eight parts";
-        let (k, n) = s
-            .split_once('/')
-            .ok_or_else(|| format!("`{s}`: {usage}"))?;
+        let (k, n) = s.split_once('/').ok_or_else(|| format!("`{s}`: {usage}"))?;
         let number = |t: &str| t.trim().parse::<usize>().ok();
         match (number(k), number(n)) {
             (Some(index), Some(count)) if (1..=count).contains(&index) => {
@@ -108,7 +106,9 @@ mod tests {
             .unwrap_err()
             .contains("numbered from 1"));
         assert_eq!(
-            Shard { index: 1, count: 5 }.check_items(3, "samples").unwrap_err(),
+            Shard { index: 1, count: 5 }
+                .check_items(3, "samples")
+                .unwrap_err(),
             "5 shards but only 3 samples: every shard must get at least one; use at most 3 shards"
         );
     }

@@ -9,11 +9,11 @@ use bgdsl_runtime::Simulation;
 use serde::de::DeserializeOwned;
 use serde_yaml::Value;
 
-use bgdsl_cli::catalog::{initial_state, params_from};
 use super::{Catalogued, Entry, RunPlan};
 use crate::plot::cumulative_trapezoid;
 use crate::quick_return::results::Results;
 use crate::quick_return::summary::Measured;
+use bgdsl_cli::catalog::{initial_state, params_from};
 
 /// A run to compare with: the entry's own with these parameters set.
 #[derive(Clone, Copy, Debug)]

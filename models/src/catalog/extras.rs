@@ -170,7 +170,10 @@ where
         {
             summary = summary.with_params(&mechanism);
         }
-        summary.file = run.results.first().map(|path| (path.clone(), run.write_time));
+        summary.file = run
+            .results
+            .first()
+            .map(|path| (path.clone(), run.write_time));
         summary.failure = run.failure.map(str::to_owned);
         summary.overrides = Some(bgdsl_cli::provenance::summary_lines(
             run.entry,

@@ -22,7 +22,8 @@ use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 /// [`Entry::of`]: bgdsl_cli::Entry::of
 pub trait Catalogued:
     bgdsl_runtime::WithInputs + bgdsl_runtime::FromParams + Default + Sync + Sized + 'static
-{    /// Records in `checks` every physically meaningless value of `params`: a mass of
+{
+    /// Records in `checks` every physically meaningless value of `params`: a mass of
     /// zero, a negative stiffness, a link that cannot be assembled.
     fn check_params(params: &Self::Params, checks: &mut Checks);
     /// The rigid mechanism a quick return model's parameters describe (for its

@@ -51,8 +51,8 @@ use bgdsl_runtime::{Solver, Stats};
 
 use super::results::{Results, CRANK_ANGLE, N_COLUMNS};
 use super::run::Recorded;
-pub use bgdsl_cli::catalog::SolverSettings;
 use crate::quick_return_rigid::{try_quick_return_cycle, Mechanism};
+pub use bgdsl_cli::catalog::SolverSettings;
 
 /// The settled part of the run the measurements are taken over, s (both ends included).
 pub const WINDOW: [f64; 2] = [2.5, 5.0];

@@ -1,0 +1,477 @@
+//! Monte Carlo studies, `run --shard K/N` and `merge`, end to end through the `models`
+//! binary: shards merged equal the one-process run byte for byte (samples.csv,
+//! trajectories.csv, bands.csv, sweep.csv), a shard run again is the same, merge
+//! refuses wrong sets naming the folders, the Slurm and Kubernetes recipes of
+//! docs/recipes run their shards (a dry run with the variables the engines set; a real
+//! array job when a Slurm cluster answers here), and a study's scenario errors point
+//! at their line and column.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::{
+    assert_code, assert_success, check_png, files, run, run_in, scenarios_dir, scratch, Csv, BIN,
+};
+
+/// The example study, shortened to keep the test quick (2 s of 0.01 s samples stays).
+fn study() -> PathBuf {
+    scenarios_dir().join("quarter_car_monte_carlo.yaml")
+}
+
+fn sweep() -> PathBuf {
+    scenarios_dir().join("quarter_car_speed.yaml")
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn run_ok(args: &[&str]) -> common::Run {
+    let out = run(args);
+    assert_success(&out);
+    out
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The bytes of `dir/name`.
+fn bytes(dir: &Path, name: &str) -> Vec<u8> {
+    fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{}: {e}", dir.join(name).display()))
+}
+
+fn assert_same_files(a: &Path, b: &Path, names: &[&str]) {
+    for name in names {
+        assert!(
+            bytes(a, name) == bytes(b, name),
+            "{name} differs between {} and {}",
+            a.display(),
+            b.display()
+        );
+    }
+}
+
+const STUDY_FILES: [&str; 3] = ["samples.csv", "trajectories.csv", "bands.csv"];
+
+#[test]
+fn a_study_writes_samples_bands_and_band_charts() {
+    let dir = scratch("study_files");
+    let out = dir.join("full");
+    run_ok(&["run", s(&study()), "--out", s(&out)]);
+    let samples = Csv::read(&out.join("samples.csv"));
+    assert_eq!(samples.rows.len(), 40);
+    assert_eq!(
+        samples.column("index"),
+        (0..40).map(f64::from).collect::<Vec<_>>()
+    );
+    // The drawn values lie in their distributions' support.
+    assert!(samples
+        .column("sprung_mass")
+        .iter()
+        .all(|m| (250.0..400.0).contains(m)));
+    assert!(samples
+        .column("suspension_damping")
+        .iter()
+        .all(|c| *c > 0.0));
+    // The median of a type-7 quantile over the samples, recomputed from
+    // trajectories.csv at the last time, is bands.csv's.
+    let traces = Csv::read(&out.join("trajectories.csv"));
+    let bands = Csv::read(&out.join("bands.csv"));
+    let t_end = *bands.column("t").last().unwrap();
+    assert_eq!(t_end, 2.0);
+    let mut last: Vec<f64> = traces
+        .column("t")
+        .iter()
+        .zip(traces.column("tyre_force"))
+        .filter(|(t, _)| **t == t_end)
+        .map(|(_, f)| f)
+        .collect();
+    assert_eq!(last.len(), 40);
+    last.sort_by(f64::total_cmp);
+    let median = 0.5 * (last[19] + last[20]);
+    assert_eq!(*bands.column("tyre_force_q50").last().unwrap(), median);
+    // final_<c> of samples.csv is the trajectory's last value.
+    let mut finals = samples.column("final_tyre_force");
+    finals.sort_by(f64::total_cmp);
+    assert_eq!(finals, last);
+    // The bands are ordered at every time.
+    for i in 0..bands.rows.len() {
+        let q: Vec<f64> = ["q05", "q25", "q50", "q75", "q95"]
+            .iter()
+            .map(|s| bands.column(&format!("body_height_{s}"))[i])
+            .collect();
+        assert!(q.windows(2).all(|w| w[0] <= w[1]), "{q:?}");
+    }
+    for column in [
+        "body_height",
+        "body_acceleration",
+        "suspension_travel",
+        "tyre_force",
+    ] {
+        check_png(&out.join(format!("band_{column}.png")), 1024, 640);
+    }
+    let index = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(index.contains("band_tyre_force"));
+}
+
+/// Shards 1/3, 2/3, 3/3 (run in another order), merged in yet another, equal the
+/// one-process run byte for byte; a shard run again is byte for byte the same.
+#[test]
+fn merged_shards_equal_the_one_process_study() {
+    let dir = scratch("study_shards");
+    let full = dir.join("full");
+    run_ok(&["run", s(&study()), "--out", s(&full)]);
+    for k in [3, 1, 2] {
+        let shard = format!("{k}/3");
+        run_ok(&[
+            "run",
+            s(&study()),
+            "--shard",
+            &shard,
+            "--out",
+            s(&dir.join(format!("s{k}"))),
+        ]);
+    }
+    let manifest = fs::read_to_string(dir.join("s2/shard.yaml")).unwrap();
+    assert!(
+        manifest.contains("shard: 2\nshards: 3\nitems: 40\nfirst: 13\nend: 26\ncomplete: true"),
+        "{manifest}"
+    );
+    let merged = dir.join("merged");
+    let out = run_ok(&[
+        "merge",
+        s(&dir.join("s2")),
+        s(&dir.join("s3")),
+        s(&dir.join("s1")),
+        "--out",
+        s(&merged),
+    ]);
+    assert!(
+        out.stdout.contains("40 samples merged from 3 shards"),
+        "{}",
+        out.stdout
+    );
+    assert_same_files(&full, &merged, &STUDY_FILES);
+    check_png(&merged.join("band_tyre_force.png"), 1024, 640);
+    assert!(merged.join("index.html").is_file());
+    // Any shard can be run again, anywhere: the same bytes.
+    let again = dir.join("s2-again");
+    run_ok(&["run", s(&study()), "--shard", "2/3", "--out", s(&again)]);
+    assert_same_files(
+        &dir.join("s2"),
+        &again,
+        &["samples.csv", "trajectories.csv", "shard.yaml"],
+    );
+}
+
+#[test]
+fn merged_sweep_shards_equal_the_one_process_sweep() {
+    let dir = scratch("sweep_shards");
+    let full = dir.join("full");
+    run_ok(&["run", s(&sweep()), "--t-end", "1.0", "--out", s(&full)]);
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        run_ok(&[
+            "run",
+            s(&sweep()),
+            "--t-end",
+            "1.0",
+            "--shard",
+            &shard,
+            "--out",
+            s(&dir.join(format!("s{k}"))),
+        ]);
+    }
+    let merged = dir.join("merged");
+    run_ok(&[
+        "merge",
+        s(&dir.join("s1")),
+        s(&dir.join("s2")),
+        s(&dir.join("s3")),
+        "--out",
+        s(&merged),
+    ]);
+    assert_same_files(&full, &merged, &["sweep.csv"]);
+    check_png(&merged.join("sweep_peak_tyre_force.png"), 1024, 640);
+    // A shard of a different sweep (another end time) is another study.
+    let other = dir.join("other");
+    run_ok(&[
+        "run",
+        s(&sweep()),
+        "--t-end",
+        "0.9",
+        "--shard",
+        "3/3",
+        "--out",
+        s(&other),
+    ]);
+    let out = run(&[
+        "merge",
+        s(&dir.join("s1")),
+        s(&dir.join("s2")),
+        s(&other),
+        "--out",
+        s(&dir.join("no")),
+    ]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr
+            .contains("are not shards of one study: study hash"),
+        "{}",
+        out.stderr
+    );
+    assert!(!dir.join("no").exists());
+}
+
+/// Merge says what is wrong with a set of folders, naming them, and writes nothing.
+#[test]
+fn merge_refuses_gaps_duplicates_other_studies_and_stray_folders() {
+    let dir = scratch("merge_refusals");
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        run_ok(&[
+            "run",
+            s(&study()),
+            "--shard",
+            &shard,
+            "--no-plots",
+            "--out",
+            s(&dir.join(format!("s{k}"))),
+        ]);
+    }
+    run_ok(&[
+        "run",
+        s(&sweep()),
+        "--t-end",
+        "0.5",
+        "--shard",
+        "2/3",
+        "--out",
+        s(&dir.join("sweep2")),
+    ]);
+    let refused = |args: &[&str], expected: &str| {
+        let mut all = vec!["merge"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--out", "merged"]);
+        let out = run_in(&dir, &all);
+        assert_code(&out, 2);
+        assert_eq!(out.stderr.trim_end(), expected);
+        assert!(!dir.join("merged").exists());
+    };
+    refused(
+        &["s1", "s3"],
+        "error: missing shard 2/3 of the study (given: 1/3 in s1, 3/3 in s3)",
+    );
+    refused(
+        &["s1", "s2", "s3", "s2"],
+        "error: s2 and s2 are both shard 2/3; give each shard once",
+    );
+    let out = run_in(&dir, &["merge", "s1", "sweep2", "s3", "--out", "merged"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr
+            .starts_with("error: s1 and sweep2 are not shards of one study: study hash "),
+        "{}",
+        out.stderr
+    );
+    fs::create_dir_all(dir.join("stray")).unwrap();
+    refused(&["s1", "stray"], "error: stray: not a shard folder (no shard.yaml); give the folders that `run ... --shard K/N` wrote");
+    // --shard itself is checked.
+    let out = run_in(&dir, &["run", s(&study()), "--shard", "0/3"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr.contains("shards are numbered from 1"),
+        "{}",
+        out.stderr
+    );
+    let out = run_in(&dir, &["run", "oscillator", "--shard", "1/2"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr
+            .contains("--shard splits a sweep or a Monte Carlo study"),
+        "{}",
+        out.stderr
+    );
+    let out = run_in(&dir, &["run", s(&sweep()), "--shard", "1/4"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr.contains("4 shards but only 3 sweep points"),
+        "{}",
+        out.stderr
+    );
+}
+
+/// The Slurm recipe's script run as a job array's tasks would run it (the variables
+/// Slurm sets), and the Kubernetes Job's command as its pods would (JOB_COMPLETION_INDEX
+/// from 0), then merged: the one-process result.
+#[test]
+fn the_recipes_run_their_shards_and_merge() {
+    let dir = scratch("recipes");
+    let full = dir.join("full");
+    run_ok(&["run", s(&study()), "--no-plots", "--out", s(&full)]);
+    // Slurm: `sbatch --array=1-4 slurm-array.sbatch`.
+    let script = repo().join("docs/recipes/slurm-array.sbatch");
+    for k in 1..=4 {
+        let status = Command::new("bash")
+            .arg(&script)
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", "4")
+            .env("MODELS", BIN)
+            .env("STUDY", study())
+            .env("RESULTS", dir.join("slurm"))
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+    merge_and_compare(&dir.join("slurm"), 4, &full);
+    // Kubernetes: the Indexed Job's container command, with the Job's environment.
+    let job: serde_yaml::Value = serde_yaml::from_str(
+        &fs::read_to_string(repo().join("docs/recipes/k8s-indexed-job.yaml")).unwrap(),
+    )
+    .unwrap();
+    let completions = job["spec"]["completions"].as_u64().unwrap();
+    let container = &job["spec"]["template"]["spec"]["containers"][0];
+    let command: Vec<&str> = container["command"]
+        .as_sequence()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    let args = container["args"][0].as_str().unwrap();
+    assert_eq!(command, ["/bin/sh", "-c"]);
+    let shards = container["env"]
+        .as_sequence()
+        .unwrap()
+        .iter()
+        .find(|e| e["name"] == "SHARDS")
+        .unwrap()["value"]
+        .as_str()
+        .unwrap();
+    assert_eq!(
+        shards,
+        completions.to_string(),
+        "SHARDS must equal completions"
+    );
+    for index in 0..completions {
+        let status = Command::new(command[0])
+            .args(&command[1..])
+            .arg(args)
+            .env("JOB_COMPLETION_INDEX", index.to_string())
+            .env("SHARDS", shards)
+            .env("MODELS", BIN)
+            .env("STUDY", study())
+            .env("RESULTS", dir.join("k8s"))
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+    merge_and_compare(&dir.join("k8s"), completions as usize, &full);
+}
+
+fn merge_and_compare(results: &Path, n: usize, full: &Path) {
+    let shards: Vec<String> = (1..=n)
+        .map(|k| s(&results.join(format!("shard-{k}-of-{n}"))).to_owned())
+        .collect();
+    let merged = results.join("merged");
+    let mut args: Vec<&str> = vec!["merge"];
+    args.extend(shards.iter().map(String::as_str));
+    args.extend(["--out", s(&merged)]);
+    run_ok(&args);
+    assert_same_files(full, &merged, &STUDY_FILES);
+}
+
+/// A real job array on a Slurm cluster, when one answers here (`sinfo`; set one up on
+/// one machine with docs/recipes/slurm-one-node.sh); otherwise it says so and passes.
+#[test]
+fn a_slurm_job_array_runs_the_shards_when_slurm_is_here() {
+    let up = Command::new("sinfo")
+        .arg("-h")
+        .output()
+        .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
+    if !up {
+        eprintln!("skipped: no Slurm cluster answers `sinfo` here");
+        return;
+    }
+    let dir = scratch("slurm_real");
+    let full = dir.join("full");
+    run_ok(&["run", s(&study()), "--no-plots", "--out", s(&full)]);
+    let results = dir.join("results");
+    let status = Command::new("sbatch")
+        .args(["--wait", "--array=1-3", "--time=5"])
+        .arg(format!("--output={}/slurm-%a.out", dir.display()))
+        .arg(format!(
+            "--export=ALL,MODELS={BIN},STUDY={},RESULTS={}",
+            study().display(),
+            results.display()
+        ))
+        .arg(repo().join("docs/recipes/slurm-array.sbatch"))
+        .status()
+        .unwrap();
+    assert!(
+        status.success(),
+        "the array job failed; see {}",
+        dir.display()
+    );
+    merge_and_compare(&results, 3, &full);
+}
+
+/// Each kind of mistake in a study is reported at its key, all in one go.
+#[test]
+fn study_errors_point_at_their_line() {
+    let dir = scratch("study_errors");
+    fs::write(dir.join("masses.csv"), "m,other\n300,1\n310,2\n").unwrap();
+    // Flow mappings (`{...}`) put the error at the parameter's key; block mappings at
+    // the distribution's key or its setting.
+    let text = "model: quarter_car\n\
+                monte_carlo:\n  samples: 3\n  seed: 1\n  parameters:\n\
+                \x20   sprung_mass: {uniform: [400, 250]}\n\
+                \x20   unsprung_mass:\n      normal:\n        mean: 40\n        sd: -1\n\
+                \x20   suspension_damping: {lognormal: {mu: 7}}\n\
+                \x20   tyre_stiffness: {csv: {file: masses.csv, column: m}}\n\
+                \x20   speed: {triangle: [1, 2]}\n\
+                \x20   wheels: {uniform: [1, 2]}\n";
+    fs::write(dir.join("bad.yaml"), text).unwrap();
+    let out = run_in(&dir, &["run", "bad.yaml", "--out", "out"]);
+    assert_code(&out, 2);
+    let lines: Vec<&str> = out.stderr.lines().collect();
+    let expected = [
+        "error: bad.yaml:6:5: a uniform range [lo, hi] needs lo < hi, found [400, 250]",
+        "error: bad.yaml:8:7: `sd` must be >= 0, found -1",
+        "error: bad.yaml:11:5: `lognormal` needs `sigma`",
+        "error: bad.yaml:12:5: the column has 2 values, fewer than the 3 samples",
+        "error: bad.yaml:13:5: unknown distribution `triangle`; use `uniform: [lo, hi]`, \
+         `normal: {mean: M, sd: S}`, `lognormal: {mu: M, sigma: S}` or `csv: {file: F, column: C}`",
+        "error: bad.yaml:14:5: unknown parameter `wheels`; the parameters of quarter_car are: \
+         sprung_mass, unsprung_mass, suspension_stiffness, suspension_damping, tyre_stiffness, g, \
+         speed, bump_distance, bump_height, bump_length, wave_amplitude, wavelength",
+    ];
+    assert_eq!(lines, expected, "{}", out.stderr);
+    assert!(!dir.join("out").exists());
+    // A drawn sample that is not physical names the sample and the distribution.
+    fs::write(
+        dir.join("negative.yaml"),
+        "model: quarter_car\nmonte_carlo:\n  samples: 50\n  seed: 3\n  parameters:\n    sprung_mass: {normal: {mean: 10, sd: 10}}\n",
+    )
+    .unwrap();
+    let out = run_in(&dir, &["run", "negative.yaml"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr.starts_with("error: negative.yaml:6:5: sample "),
+        "{}",
+        out.stderr
+    );
+    assert!(
+        out.stderr
+            .contains("narrow the distribution or change the seed"),
+        "{}",
+        out.stderr
+    );
+    assert_eq!(files(&dir), ["bad.yaml", "masses.csv", "negative.yaml"]);
+}
