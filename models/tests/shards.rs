@@ -119,6 +119,38 @@ fn a_study_writes_samples_bands_and_band_charts() {
     }
     let index = fs::read_to_string(out.join("index.html")).unwrap();
     assert!(index.contains("band_tyre_force"));
+    // run.yaml's keys, with the model, are a scenario that draws the same numbers.
+    let record: serde_yaml::Mapping =
+        serde_yaml::from_str(&fs::read_to_string(out.join("run.yaml")).unwrap()).unwrap();
+    let mut scenario = serde_yaml::Mapping::new();
+    scenario.insert("model".into(), "quarter_car".into());
+    for key in [
+        "parameters",
+        "initial",
+        "time",
+        "output",
+        "plots",
+        "solver",
+        "monte_carlo",
+    ] {
+        scenario.insert(key.into(), record[key].clone());
+    }
+    assert_eq!(
+        serde_yaml::to_string(&record["monte_carlo"]).unwrap(),
+        "samples: 40\nseed: 2024\nparameters:\n  sprung_mass:\n    uniform:\n    - 250.0\n    - 400.0\n  \
+         suspension_stiffness:\n    normal:\n      mean: 20000.0\n      sd: 2000.0\n  \
+         suspension_damping:\n    lognormal:\n      mu: 7.3\n      sigma: 0.2\n"
+    );
+    let again = dir.join("again.yaml");
+    fs::write(&again, serde_yaml::to_string(&scenario).unwrap()).unwrap();
+    run_ok(&[
+        "run",
+        s(&again),
+        "--no-plots",
+        "--out",
+        s(&dir.join("again")),
+    ]);
+    assert_same_files(&out, &dir.join("again"), &STUDY_FILES);
 }
 
 /// Shards 1/3, 2/3, 3/3 (run in another order), merged in yet another, equal the
@@ -326,9 +358,9 @@ fn the_recipes_run_their_shards_and_merge() {
             .env("MODELS", BIN)
             .env("STUDY", study())
             .env("RESULTS", dir.join("slurm"))
-            .status()
+            .output()
             .unwrap();
-        assert!(status.success());
+        assert!(status.status.success(), "{status:?}");
     }
     merge_and_compare(&dir.join("slurm"), 4, &full);
     // Kubernetes: the Indexed Job's container command, with the Job's environment.
@@ -368,9 +400,9 @@ fn the_recipes_run_their_shards_and_merge() {
             .env("MODELS", BIN)
             .env("STUDY", study())
             .env("RESULTS", dir.join("k8s"))
-            .status()
+            .output()
             .unwrap();
-        assert!(status.success());
+        assert!(status.status.success(), "{status:?}");
     }
     merge_and_compare(&dir.join("k8s"), completions as usize, &full);
 }
@@ -422,6 +454,70 @@ fn a_slurm_job_array_runs_the_shards_when_slurm_is_here() {
     merge_and_compare(&results, 3, &full);
 }
 
+/// A study whose samples fail commits what it has to `<out>.partial/` and leaves
+/// `<out>` alone (the results-set rule); its shard folder says it is partial, and merge
+/// refuses it.
+#[test]
+fn failed_samples_make_a_partial_set_that_merge_refuses() {
+    let dir = scratch("study_partial");
+    let out = dir.join("study");
+    run_ok(&["run", s(&study()), "--no-plots", "--out", s(&out)]);
+    let before = bytes(&out, "samples.csv");
+    // Ten steps cannot cover 2 s with steps of at most 1 ms: every sample fails.
+    let failed = run(&[
+        "run",
+        s(&study()),
+        "--max-steps",
+        "10",
+        "--no-plots",
+        "--out",
+        s(&out),
+    ]);
+    assert_code(&failed, 1);
+    assert!(
+        failed
+            .stdout
+            .starts_with("PARTIAL STUDY 40 of 40 samples failed"),
+        "{}",
+        failed.stdout
+    );
+    assert_eq!(
+        bytes(&out, "samples.csv"),
+        before,
+        "the complete set is untouched"
+    );
+    let partial = dir.join("study.partial");
+    let samples = Csv::read(&partial.join("samples.csv"));
+    assert!(samples
+        .column("final_tyre_force")
+        .iter()
+        .all(|v| v.is_nan()));
+    // A partial shard.
+    let scenario = study();
+    for k in 1..=2 {
+        let shard = format!("{k}/2");
+        let extra: &[&str] = if k == 2 { &["--max-steps", "10"] } else { &[] };
+        let mut args = vec!["run", s(&scenario), "--shard", &shard, "--no-plots"];
+        args.extend_from_slice(extra);
+        let o = dir.join(format!("s{k}"));
+        args.extend(["--out", s(&o)]);
+        let _ = run(&args);
+    }
+    let m = fs::read_to_string(dir.join("s2.partial/shard.yaml")).unwrap();
+    assert!(m.contains("complete: false"), "{m}");
+    let out = run_in(&dir, &["merge", "s1", "s2.partial", "--out", "merged"]);
+    assert_code(&out, 2);
+    // Its solver's step budget makes it another study, and it is partial: both said.
+    let lines: Vec<&str> = out.stderr.lines().collect();
+    assert_eq!(lines.len(), 2, "{}", out.stderr);
+    assert!(lines[0].starts_with("error: s1 and s2.partial are not shards of one study"));
+    assert_eq!(
+        lines[1],
+        "error: s2.partial: shard 2/2 is partial (some of its items failed or did not run); run \
+         it again"
+    );
+}
+
 /// Each kind of mistake in a study is reported at its key, all in one go.
 #[test]
 fn study_errors_point_at_their_line() {
@@ -447,7 +543,8 @@ fn study_errors_point_at_their_line() {
         "error: bad.yaml:11:5: `lognormal` needs `sigma`",
         "error: bad.yaml:12:5: the column has 2 values, fewer than the 3 samples",
         "error: bad.yaml:13:5: unknown distribution `triangle`; use `uniform: [lo, hi]`, \
-         `normal: {mean: M, sd: S}`, `lognormal: {mu: M, sigma: S}` or `csv: {file: F, column: C}`",
+         `normal: {mean: M, sd: S}`, `lognormal: {mu: M, sigma: S}`, `csv: {file: F, column: C}` \
+         or `values: [x0, x1, ...]`",
         "error: bad.yaml:14:5: unknown parameter `wheels`; the parameters of quarter_car are: \
          sprung_mass, unsprung_mass, suspension_stiffness, suspension_damping, tyre_stiffness, g, \
          speed, bump_distance, bump_height, bump_length, wave_amplitude, wavelength",

@@ -23,6 +23,7 @@ use super::folder::RunFolder;
 use super::params::format_significant;
 use super::run::{settle_drawing, Observer};
 use super::{figures, CatalogModel, Column, Entry, Plots, RunError, RunPlan};
+use crate::provenance::{self, RunRecord, StudyRecord};
 use crate::report::INDEX_FILE;
 
 /// A parameter a study draws.
@@ -99,6 +100,25 @@ pub(super) fn canonical_run(plan: &RunPlan) -> String {
 pub(super) fn program(plan: &RunPlan) -> String {
     let p = &plan.context.program;
     format!("{} {} (commit {})", p.name, p.version, p.commit)
+}
+
+/// A distribution as a scenario writes it (a CSV column as its `values`).
+fn as_scenario(distribution: &Distribution) -> Value {
+    let pair = |a: &str, x: f64, b: &str, y: f64| {
+        let mut m = serde_yaml::Mapping::new();
+        m.insert(a.into(), x.into());
+        m.insert(b.into(), y.into());
+        Value::Mapping(m)
+    };
+    let (kind, settings) = match *distribution {
+        Distribution::Uniform { lo, hi } => ("uniform", Value::from(vec![lo, hi])),
+        Distribution::Normal { mean, sd } => ("normal", pair("mean", mean, "sd", sd)),
+        Distribution::LogNormal { mu, sigma } => ("lognormal", pair("mu", mu, "sigma", sigma)),
+        Distribution::Values(ref values) => ("values", Value::from(values.clone())),
+    };
+    let mut m = serde_yaml::Mapping::new();
+    m.insert(kind.into(), settings);
+    Value::Mapping(m)
 }
 
 /// Every output of `model`, as `output.record` names them.
@@ -273,8 +293,46 @@ pub fn run_study(
         }
         None => write_study(&dir, &shape, &plan.base.times, &rows, &head, observer),
     };
-    let (files, drawn) = written?;
+    let (mut files, drawn) = written?;
     let (_, figures_error) = settle_drawing(drawn, &mut failure, observer)?;
+    let mut record = RunRecord::build(
+        entry,
+        &plan.base,
+        &plan
+            .parameters
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect::<Vec<_>>(),
+        &files
+            .iter()
+            .filter(|f| f.ends_with(".csv"))
+            .map(PathBuf::from)
+            .collect::<Vec<_>>(),
+        failure.as_deref(),
+    )?;
+    // The drawn parameters are in `monte_carlo`; as `parameters` too, the record would
+    // not read back as a scenario (a drawn parameter cannot also be set).
+    for p in &plan.parameters {
+        record.parameters.remove(p.name.as_str());
+    }
+    // Likewise the initial state: each sample's follows from its drawn parameters, so
+    // only the states the scenario set are recorded.
+    let set = record.initial_overridden.clone();
+    record
+        .initial
+        .retain(|k, _| k.as_str().is_some_and(|k| set.iter().any(|s| s == k)));
+    record.monte_carlo = Some(StudyRecord {
+        samples: plan.samples,
+        seed: plan.seed,
+        parameters: plan
+            .parameters
+            .iter()
+            .map(|p| (Value::from(p.name.as_str()), as_scenario(&p.distribution)))
+            .collect(),
+    });
+    record.shard = shard.map(|s| s.to_string());
+    provenance::write(&dir, &record)?;
+    files.push(provenance::FILE_NAME.to_owned());
     let partial = failure.is_some();
     let target = folder.commit(partial)?;
     let mut summary = String::new();
@@ -638,9 +696,13 @@ fn merge_study(
             rows.len(),
             shards.len()
         );
-        let (files, drawn) = write_study(folder.path(), &shape, &times, &rows, &head, observer)?;
+        let (mut files, drawn) =
+            write_study(folder.path(), &shape, &times, &rows, &head, observer)?;
         let mut failure = None;
         let (_, figures_error) = settle_drawing(drawn, &mut failure, observer)?;
+        if let Some(path) = merged_record(shards, folder.path(), &files)? {
+            files.push(path);
+        }
         let target = folder.commit(failure.is_some())?;
         Ok(StudyOutcome {
             summary: format!("{head}results        {}\n", target.display()),
@@ -651,4 +713,35 @@ fn merge_study(
         })
     })();
     Ok(result)
+}
+
+/// Writes the record of a merge into `dir`: the first shard's `run.yaml` (the study's
+/// settings are the same in every shard) without its shard, with the merge's command
+/// line, the folders joined and the files written. `None` when the shard has no record.
+pub(super) fn merged_record(
+    shards: &[(PathBuf, Manifest)],
+    dir: &Path,
+    files: &[String],
+) -> Result<Option<String>, RunError> {
+    let Ok(text) = std::fs::read_to_string(shards[0].0.join(provenance::FILE_NAME)) else {
+        return Ok(None);
+    };
+    let Ok(mut record) = serde_yaml::from_str::<RunRecord>(&text) else {
+        return Ok(None);
+    };
+    record.shard = None;
+    record.command_line = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    record.merged_from = shards
+        .iter()
+        .map(|(d, _)| d.display().to_string())
+        .collect();
+    record.results = files
+        .iter()
+        .filter(|f| f.ends_with(".csv"))
+        .cloned()
+        .collect();
+    provenance::write(dir, &record)?;
+    Ok(Some(provenance::FILE_NAME.to_owned()))
 }

@@ -240,6 +240,7 @@ pub(super) fn merge_sweep(
             shards.len()
         );
         figures::index(dir, &shape.title, &summary, &drawn, &[])?;
+        super::study::merged_record(shards, dir, &[TABLE.to_owned()])?;
         let name = path.file_name().unwrap_or_default().to_owned();
         let target = folder.commit(failure.is_some())?;
         Ok(StudyOutcome {
@@ -476,13 +477,14 @@ pub fn run_sweep(
     }
 
     summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
-    provenance::write_sweep(
-        dir,
+    let mut record = provenance::RunRecord::of_sweep(
         entry,
         plan,
         std::slice::from_ref(&path),
         failure.as_deref(),
     )?;
+    record.shard = shard.map(|s| s.to_string());
+    provenance::write(dir, &record)?;
     figures::index(dir, &plan.base.title, &summary, &drawn, &[])?;
     let target = folder.commit(partial)?;
     let mut files = vec![path, target.join(provenance::FILE_NAME)];

@@ -196,7 +196,7 @@ pub(super) fn merge(
     crate::interrupt::install_handler();
     let progress = Progress::new();
     let outcome = crate::catalog::merge(dirs, &out, &progress)
-        .map_err(|errors| Failure::Usage(errors.join("\nerror: ")))?
+        .map_err(|errors| Failure::Usage(errors.join("\n")))?
         .map_err(Failure::Run)?;
     print(&outcome.summary)?;
     match (outcome.failure, outcome.figures_error) {

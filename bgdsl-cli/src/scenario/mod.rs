@@ -44,6 +44,7 @@
 //!     c_s: {lognormal: {mu: 7.0, sigma: 0.2}}   # ln x is normal(mu, sigma)
 //!     # m_u: {csv: {file: masses.csv, column: m_u}}  # row i for sample i; the file
 //!                                #     is relative to the scenario, a header row first
+//!     # g: {values: [9.78, 9.81, 9.83]}            # or listed: sample i takes the i-th
 //! ```
 //!
 //! # Meaning

@@ -156,7 +156,8 @@ pub(super) fn study(
 }
 
 /// One parameter's distribution: a mapping with exactly one of `uniform: [lo, hi]`,
-/// `normal: {mean, sd}`, `lognormal: {mu, sigma}`, `csv: {file, column}`.
+/// `normal: {mean, sd}`, `lognormal: {mu, sigma}`, `csv: {file, column}`, `values:
+/// [...]` (sample i takes the i-th; what `run.yaml` records for a `csv` column).
 fn distribution(
     value: &Value,
     samples: usize,
@@ -165,7 +166,8 @@ fn distribution(
     d: &mut Diagnostics,
 ) -> Option<Distribution> {
     const KINDS: &str = "`uniform: [lo, hi]`, `normal: {mean: M, sd: S}`, \
-                         `lognormal: {mu: M, sigma: S}` or `csv: {file: F, column: C}`";
+                         `lognormal: {mu: M, sigma: S}`, `csv: {file: F, column: C}` or \
+                         `values: [x0, x1, ...]`";
     let entries = match value {
         Value::Mapping(map) if map.len() == 1 => map,
         other => {
@@ -222,6 +224,11 @@ fn distribution(
                 _ => None,
             }
         }
+        ("values", Value::Sequence(items)) => items
+            .iter()
+            .map(Value::as_f64)
+            .collect::<Option<Vec<f64>>>()
+            .map(Distribution::Values),
         ("normal", Value::Mapping(map)) => {
             keys_only(map, &["mean", "sd"], d);
             let (mean, sd) = (number(map, "mean", d), number(map, "sd", d));
@@ -260,9 +267,10 @@ fn distribution(
                 }
             }
         }
-        ("uniform" | "normal" | "lognormal" | "csv", other) => {
+        ("uniform" | "normal" | "lognormal" | "csv" | "values", other) => {
             let expected = match kind {
                 "uniform" => "a list of two numbers `[lo, hi]`",
+                "values" => "a list of numbers, one per sample",
                 _ => "a mapping of keys",
             };
             d.push(
@@ -280,6 +288,12 @@ fn distribution(
         }
     };
     let Some(made) = made else {
+        if kind == "values" {
+            d.push(
+                places.file(&here),
+                "`values` takes a list of numbers, one per sample",
+            );
+        }
         if kind == "uniform" {
             d.push(
                 places.file(&here),
