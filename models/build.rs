@@ -1,5 +1,6 @@
 //! Build script of `models`: records which git commit the program is built from, for
-//! the provenance record every run writes (`models::provenance`).
+//! the provenance record every run writes (`bgdsl_cli::provenance`, through
+//! `Catalogue::commit` in `models::catalogue`).
 //!
 //! Sets `MODELS_GIT_COMMIT` (the commit hash, or `unknown` without git or outside a
 //! repository) and `MODELS_GIT_DIRTY` (`true` when tracked files differ from that
@@ -66,7 +67,13 @@ fn main() {
         }
         watch(&common_dir.join("packed-refs"));
         if let Some(workspace) = crate_dir.parent() {
-            for member in ["models", "bgdsl-runtime", "bgdsl-macros", "bgdsl-fmi/core"] {
+            for member in [
+                "models",
+                "bgdsl-cli",
+                "bgdsl-runtime",
+                "bgdsl-macros",
+                "bgdsl-fmi/core",
+            ] {
                 watch(&workspace.join(member).join("src"));
                 watch(&workspace.join(member).join("Cargo.toml"));
             }

@@ -126,7 +126,7 @@ use bgdsl_runtime::{CausalGraph, ParameterInfo};
 use serde_yaml::Mapping;
 
 pub use checks::{Checks, Problem};
-pub use columns::{resolve_columns, write_units, Column};
+pub use columns::{column_unit, resolve_columns, units_path, write_units, Column};
 pub use entry::{Catalogue, Entry, EntryOf, UnknownModel};
 pub use extras::{ExtraRun, Extras, Finished, NoExtras, RunContext, Written};
 pub use figures::plot_error;

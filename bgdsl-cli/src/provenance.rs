@@ -500,7 +500,9 @@ impl RunRecord {
 pub fn write(dir: &Path, record: &RunRecord) -> Result<PathBuf, RunError> {
     let path = dir.join(FILE_NAME);
     write_atomically(&path, |out| {
-        out.write_all(b"# What produced the results in this folder: see `models::provenance`.\n")?;
+        out.write_all(
+            b"# What produced the results in this folder: see `bgdsl_cli::provenance`.\n",
+        )?;
         serde_yaml::to_writer(&mut *out, record).map_err(io::Error::other)
     })?;
     Ok(path)

@@ -57,6 +57,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         "Quick return mechanism: default run",
         &summary,
         &figures,
+        &[],
     )?;
     let index_time = started.elapsed();
 

@@ -172,7 +172,7 @@ fn every_figure_of_a_short_run_is_drawn_readable_and_reported() {
     assert_eq!(names_in(&dir.0).len(), 2 * FIGURE_IDS.len());
     assert!(names_in(&dir.0).iter().all(|n| !n.starts_with('.')));
 
-    let index = write_index(&dir.0, "Short run <0-1.5 s>", "rows  1501\n", &figures).unwrap();
+    let index = write_index(&dir.0, "Short run <0-1.5 s>", "rows  1501\n", &figures, &[]).unwrap();
     let html = fs::read_to_string(&index).unwrap();
     assert!(html.contains("<title>Short run &lt;0-1.5 s&gt;</title>"));
     assert!(html.contains("<pre>rows  1501\n</pre>"));
@@ -245,7 +245,7 @@ fn a_run_shorter_than_a_revolution_skips_only_the_revolution_figure() {
             assert_not_blank(&figure.files[0], &pixels);
         }
     }
-    let index = write_index(&dir.0, "short", "partial", &figures).unwrap();
+    let index = write_index(&dir.0, "short", "partial", &figures, &[]).unwrap();
     let html = fs::read_to_string(index).unwrap();
     assert!(html.contains("Not drawn"));
     assert_eq!(

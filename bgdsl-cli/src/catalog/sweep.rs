@@ -513,18 +513,3 @@ pub fn metric_unit(model: &dyn super::CatalogModel, names: &[&str]) -> Option<&'
     let first = *units.first()?;
     (!first.is_empty() && units.iter().all(|u| *u == first)).then_some(first)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn take_metric_units_from_the_model() {
-        let quick = crate::catalog::find("quick_return").unwrap().model;
-        assert_eq!(metric_unit(quick, &["Tc_x", "Tc_y", "Tc_z"]), Some("N·m"));
-        assert_eq!(metric_unit(quick, &["F_O1_y"]), Some("N"));
-        assert_eq!(metric_unit(quick, &["crank_angle", "Tc_x"]), None);
-        let servo = crate::catalog::find("dc_motor").unwrap().model;
-        assert_eq!(metric_unit(servo, &["shaft_torque"]), Some("N·m"));
-    }
-}

@@ -51,17 +51,20 @@
 //!
 //! - **`parameters`** replace the model's defaults; a vector parameter takes a list of
 //!   as many numbers. Each value is checked physically (masses > 0, stiffnesses >= 0,
-//!   a positive definite inertia, ...; [`catalog::Catalogued`](crate::catalog::Catalogued)).
+//!   a positive definite inertia, ...: the entry's
+//!   [`checks`](crate::catalog::EntryOf::checks)).
 //! - **`initial`** replaces entries of the model's initial state, by state name.
 //! - **`output.record`** names states and outputs; a vector output's name stands for its
-//!   components (`Tc` for `Tc_x`, `Tc_y`, `Tc_z`). For most models it chooses the
-//!   columns of `<model>.csv` (default: every state and output). **For the quick return
-//!   the results file always has the spec's 56 columns**, whatever `record` says; the
-//!   columns `record` names are written to a second file, `quick_return_extra.csv` (no
-//!   such file without `record`).
-//! - **`plots`** chooses figures by id: for the quick return the ids of
-//!   [`FIGURE_IDS`](crate::quick_return::figures::FIGURE_IDS); for other models the
-//!   names of recorded outputs (one chart each, against time).
+//!   components (`Tc` for `Tc_x`, `Tc_y`, `Tc_z`). It chooses the columns of
+//!   `<model>.csv` (default: the entry's [`record`](crate::catalog::EntryOf::record),
+//!   by default every state and output). A model's [extras](crate::catalog::Extras)
+//!   may write files of their own beside it, whatever `record` says (in `models`, the
+//!   quick return's spec file `quick_return.csv` with its 56 columns, the table then
+//!   named `quick_return_extra.csv`).
+//! - **`plots`** chooses figures by id: the names of recorded outputs (one chart each,
+//!   against time), or the ids of the extras' own figures
+//!   ([`Extras::figure_ids`](crate::catalog::Extras::figure_ids); in `models`, the quick
+//!   return's paper figures).
 //! - **`sweep`** runs every combination of the values of one or two parameters (the
 //!   runs spread over the cores), and writes `sweep.csv`: the parameters' values and,
 //!   for each of `peaks`, `peak_<name>`, the largest magnitude (Euclidean norm of its
