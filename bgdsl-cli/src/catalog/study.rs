@@ -293,7 +293,7 @@ pub fn run_study(
         }
         None => write_study(&dir, &shape, &plan.base.times, &rows, &head, observer),
     };
-    let (mut files, drawn) = written?;
+    let (mut files, drawn, text) = written?;
     let (_, figures_error) = settle_drawing(drawn, &mut failure, observer)?;
     let mut record = RunRecord::build(
         entry,
@@ -339,7 +339,7 @@ pub fn run_study(
     if let Some(failure) = &failure {
         let _ = writeln!(summary, "PARTIAL STUDY {failure}");
     }
-    summary.push_str(&head);
+    summary.push_str(&text);
     let _ = writeln!(summary, "results        {}", target.display());
     Ok(StudyOutcome {
         summary,
@@ -362,7 +362,7 @@ fn write_shard(
     rows: &[SampleRow],
     manifest: &Manifest,
     head: &str,
-) -> Result<(Vec<String>, Drawn), RunError> {
+) -> Result<(Vec<String>, Drawn, String), RunError> {
     write_samples(dir, shape, rows)?;
     write_trajectories(dir, shape, times, rows)?;
     let path = dir.join(manifest::FILE_NAME);
@@ -384,6 +384,7 @@ fn write_shard(
             INDEX_FILE.to_owned(),
         ],
         Ok(Vec::new()),
+        summary,
     ))
 }
 
@@ -403,7 +404,7 @@ fn write_study(
     rows: &[SampleRow],
     head: &str,
     observer: &dyn Observer,
-) -> Result<(Vec<String>, Drawn), RunError> {
+) -> Result<(Vec<String>, Drawn, String), RunError> {
     write_samples(dir, shape, rows)?;
     write_trajectories(dir, shape, times, rows)?;
     let width = shape.columns.len();
@@ -437,7 +438,7 @@ fn write_study(
     let _ = writeln!(
         summary,
         "\nat the end ({} s), over the samples:",
-        format_significant(times.last().copied().unwrap_or(0.0))
+        super::format_number(times.last().copied().unwrap_or(0.0))
     );
     let _ = writeln!(
         summary,
@@ -476,7 +477,7 @@ fn write_study(
             .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
     }));
     files.push(INDEX_FILE.to_owned());
-    Ok((files, drawing))
+    Ok((files, drawing, summary))
 }
 
 /// The per-sample metrics of a trajectory: for each column, the peak magnitude and
@@ -696,7 +697,7 @@ fn merge_study(
             rows.len(),
             shards.len()
         );
-        let (mut files, drawn) =
+        let (mut files, drawn, text) =
             write_study(folder.path(), &shape, &times, &rows, &head, observer)?;
         let mut failure = None;
         let (_, figures_error) = settle_drawing(drawn, &mut failure, observer)?;
@@ -705,7 +706,7 @@ fn merge_study(
         }
         let target = folder.commit(failure.is_some())?;
         Ok(StudyOutcome {
-            summary: format!("{head}results        {}\n", target.display()),
+            summary: format!("{text}results        {}\n", target.display()),
             files: files.iter().map(|f| target.join(f)).collect(),
             failure,
             figures_error,
