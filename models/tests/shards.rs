@@ -570,5 +570,36 @@ fn study_errors_point_at_their_line() {
         "{}",
         out.stderr
     );
-    assert_eq!(files(&dir), ["bad.yaml", "masses.csv", "negative.yaml"]);
+    // The size guard counts the trajectories: 20,000 samples of 10,001 times.
+    fs::write(
+        dir.join("large.yaml"),
+        "model: quarter_car\ntime: {end: 10}\noutput: {interval: 0.001}\nmonte_carlo:\n  samples: 20000\n  seed: 1\n  parameters:\n    g: {uniform: [9.7, 9.9]}\n",
+    )
+    .unwrap();
+    let out = run_in(&dir, &["run", "large.yaml"]);
+    assert_code(&out, 2);
+    assert!(
+        out.stderr.starts_with(
+            "error: this study would write up to 52.8 GB of trajectories (20,000 samples × \
+             10,001 times × 11 columns)"
+        ),
+        "{}",
+        out.stderr
+    );
+    // The section's own keys are checked like every scenario key.
+    fs::write(
+        dir.join("shape.yaml"),
+        "model: quarter_car\nmonte_carlo:\n  samples: 10\n  parameters: {g: {uniform: [9, 10]}}\n  draws: 3\n",
+    )
+    .unwrap();
+    let out = run_in(&dir, &["run", "shape.yaml"]);
+    assert_code(&out, 2);
+    assert_eq!(
+        out.stderr.lines().collect::<Vec<_>>(),
+        [
+            "error: shape.yaml:2:1: monte_carlo: missing field `seed`",
+            "error: shape.yaml:5:3: monte_carlo: unknown field `draws`, expected one of `samples`, `seed`, `parameters`"
+        ]
+    );
+    assert!(!dir.join("out").exists());
 }

@@ -81,7 +81,7 @@ pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), F
         _ if args.yes => None,
         Job::Run(run) => size::run_too_large(plan.entry, run),
         Job::Sweep(sweep) => size::sweep_too_large(plan.entry, sweep),
-        Job::Study(_) => None,
+        Job::Study(study) => size::study_too_large(study, args.shard),
     };
     if let Some(estimate) = too_large {
         confirm(&estimate)?;
