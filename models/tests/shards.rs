@@ -601,5 +601,15 @@ fn study_errors_point_at_their_line() {
             "error: shape.yaml:5:3: monte_carlo: unknown field `draws`, expected one of `samples`, `seed`, `parameters`"
         ]
     );
-    assert!(!dir.join("out").exists());
+    // Nothing was written: the folder holds only what the test put there.
+    assert_eq!(
+        files(&dir),
+        [
+            "bad.yaml",
+            "large.yaml",
+            "masses.csv",
+            "negative.yaml",
+            "shape.yaml"
+        ]
+    );
 }
