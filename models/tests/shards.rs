@@ -613,3 +613,59 @@ fn study_errors_point_at_their_line() {
         ]
     );
 }
+
+/// SIGINT during a study stops it: the samples not yet run are NaN in the partial set
+/// committed to `<out>.partial/`, and `<out>` (a previous complete study) is untouched.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_study_commits_a_partial_set() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let dir = scratch("study_interrupted");
+    let scenario = dir.join("long.yaml");
+    // 400 samples of 20 s at 1 ms: tens of seconds, interrupted after a moment.
+    fs::write(
+        &scenario,
+        "model: quarter_car\ntime: {end: 20}\noutput: {interval: 0.001, record: [tyre_force]}\n\
+         monte_carlo:\n  samples: 400\n  seed: 5\n  parameters:\n    sprung_mass: {uniform: [250, 400]}\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    run_ok(&["run", s(&study()), "--no-plots", "--out", s(&out)]);
+    let before = bytes(&out, "samples.csv");
+    let child = Command::new(BIN)
+        .args(["run", s(&scenario), "--no-plots", "--out", s(&out)])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let staging = dir.join(format!(".out.staging-{}", child.id()));
+    let started = Instant::now();
+    while !staging.exists() {
+        assert!(
+            started.elapsed() < Duration::from_secs(30),
+            "no staging folder"
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    // SAFETY: sends a signal to our own child.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
+    let run: common::Run = child.wait_with_output().unwrap().into();
+    assert_code(&run, 1);
+    assert!(run.stdout.starts_with("PARTIAL STUDY "), "{}", run.stdout);
+    assert_eq!(
+        bytes(&out, "samples.csv"),
+        before,
+        "the complete set is untouched"
+    );
+    let samples = Csv::read(&dir.join("out.partial/samples.csv"));
+    assert_eq!(samples.rows.len(), 400, "every sample has its row");
+    let finals = samples.column("final_tyre_force");
+    assert!(
+        finals.iter().any(|v| v.is_nan()),
+        "some samples did not run"
+    );
+    assert!(!staging.exists());
+}
