@@ -41,6 +41,13 @@
 //! each metric: the largest magnitude over the window), one chart per metric
 //! (`sweep_peak_<name>.png`, `.svg`) and `index.html`; no per-run results.
 //!
+//! A Monte Carlo study ([`run_study`]) runs every sample the same way and writes
+//! `samples.csv`, `trajectories.csv`, `bands.csv`, one band chart per banded column
+//! (`band_<name>.png`, `.svg`), `index.html` and `run.yaml` (see the scenario's
+//! `monte_carlo:`). With `--shard K/N` a sweep or a study runs one block of its points
+//! or samples into a shard folder with `shard.yaml` ([`crate::study::manifest`]), and
+//! [`merge`] joins the N folders into the one-process files, bit for bit.
+//!
 //! # Results folders
 //!
 //! A run's files (its results CSVs, figures, `index.html`) form one set, and an output

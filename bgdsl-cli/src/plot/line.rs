@@ -606,6 +606,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn fills_count_in_the_fitted_ranges() {
+        let chart = LineChart {
+            series: vec![Series::new("median", vec![(0.0, 1.0), (2.0, 1.0)])],
+            ..LineChart::default()
+        };
+        let options = ChartOptions {
+            fills: vec![Fill {
+                points: vec![(0.0, -3.0, 5.0), (2.0, 0.0, 2.0)],
+                color: (0, 0, 255),
+                opacity: 0.2,
+            }],
+            ..ChartOptions::default()
+        };
+        let (x, (lo, hi)) = ranges(&chart, &options);
+        assert_eq!(x, (0.0, 2.0));
+        // The band's -3 and 5, padded by 4 % of their span.
+        assert!(lo <= -3.0 && hi >= 5.0, "{lo} {hi}");
+        let (_, (lo, hi)) = ranges(&chart, &ChartOptions::default());
+        assert!(lo > -3.0 && hi < 5.0, "without the fill: {lo} {hi}");
+    }
+
+    #[test]
     fn titles_wrap_at_words() {
         let fits = |s: &str| s.len() <= 12;
         assert_eq!(
