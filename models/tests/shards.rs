@@ -419,24 +419,29 @@ fn merge_and_compare(results: &Path, n: usize, full: &Path) {
     assert_same_files(full, &merged, &STUDY_FILES);
 }
 
-/// A real job array on a Slurm cluster, when one answers here (`sinfo`; set one up on
-/// one machine with docs/recipes/slurm-one-node.sh); otherwise it says so and passes.
+/// A real job array on a Slurm cluster, when one answers here with a node ready
+/// (`sinfo`; set one up on one machine with docs/recipes/slurm-one-node.sh); otherwise
+/// it says so and passes. The array gets two minutes, then it is cancelled and the
+/// test fails.
 #[test]
 fn a_slurm_job_array_runs_the_shards_when_slurm_is_here() {
-    let up = Command::new("sinfo")
-        .arg("-h")
-        .output()
-        .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
-    if !up {
-        eprintln!("skipped: no Slurm cluster answers `sinfo` here");
+    let states = Command::new("sinfo").args(["-h", "-o", "%T"]).output();
+    let ready = states.is_ok_and(|o| {
+        o.status.success()
+            && String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .any(|l| ["idle", "mixed", "allocated"].contains(&l.trim()))
+    });
+    if !ready {
+        eprintln!("skipped: no Slurm cluster with a ready node answers `sinfo` here");
         return;
     }
     let dir = scratch("slurm_real");
     let full = dir.join("full");
     run_ok(&["run", s(&study()), "--no-plots", "--out", s(&full)]);
     let results = dir.join("results");
-    let status = Command::new("sbatch")
-        .args(["--wait", "--array=1-3", "--time=5"])
+    let submitted = Command::new("sbatch")
+        .args(["--parsable", "--array=1-3", "--time=5"])
         .arg(format!("--output={}/slurm-%a.out", dir.display()))
         .arg(format!(
             "--export=ALL,MODELS={BIN},STUDY={},RESULTS={}",
@@ -444,13 +449,28 @@ fn a_slurm_job_array_runs_the_shards_when_slurm_is_here() {
             results.display()
         ))
         .arg(repo().join("docs/recipes/slurm-array.sbatch"))
-        .status()
+        .output()
         .unwrap();
-    assert!(
-        status.success(),
-        "the array job failed; see {}",
-        dir.display()
-    );
+    assert!(submitted.status.success(), "{submitted:?}");
+    let job = String::from_utf8_lossy(&submitted.stdout).trim().to_owned();
+    let started = std::time::Instant::now();
+    loop {
+        let queued = Command::new("squeue")
+            .args(["-h", "-j", &job])
+            .output()
+            .unwrap();
+        if queued.stdout.is_empty() {
+            break;
+        }
+        if started.elapsed() > std::time::Duration::from_secs(120) {
+            let _ = Command::new("scancel").arg(&job).status();
+            panic!(
+                "the array job {job} did not finish in 2 minutes; see {}",
+                dir.display()
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
     merge_and_compare(&results, 3, &full);
 }
 
