@@ -313,6 +313,14 @@ fn merge_refuses_gaps_duplicates_other_studies_and_stray_folders() {
         "{}",
         out.stderr
     );
+    let out = run_in(&dir, &["merge", "s1", "s2", "s3", "--out", "s2"]);
+    assert_code(&out, 2);
+    assert_eq!(
+        out.stderr.trim_end(),
+        "error: the output folder s2 is one of the shards: the merge would replace it; choose \
+         another --out"
+    );
+    assert!(dir.join("s2/shard.yaml").is_file());
     fs::create_dir_all(dir.join("stray")).unwrap();
     refused(&["s1", "stray"], "error: stray: not a shard folder (no shard.yaml); give the folders that `run ... --shard K/N` wrote");
     // --shard itself is checked.

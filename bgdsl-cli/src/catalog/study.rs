@@ -641,6 +641,17 @@ pub fn merge(
 ) -> Result<Result<StudyOutcome, RunError>, Vec<String>> {
     let mut manifests = Vec::new();
     let mut errors = Vec::new();
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    if let Some(dir) = dirs.iter().find(|d| same(d, out)) {
+        return Err(vec![format!(
+            "the output folder {} is one of the shards: the merge would replace it; choose \
+             another --out",
+            dir.display()
+        )]);
+    }
     for dir in dirs {
         match Manifest::read(dir) {
             Ok(m) => manifests.push((dir.clone(), m)),
