@@ -236,3 +236,27 @@ fn extras_record_write_and_add_to_the_summary_and_the_page() {
     assert!(page.find("Summary of the run").unwrap() < section);
     assert!(section < page.find("<h2>Figures</h2>").unwrap());
 }
+
+#[test]
+fn help_names_the_program_and_its_first_model() {
+    let mut command = bgdsl_cli::cli::command(&CATALOGUE);
+    let help = command.render_long_help().to_string();
+    assert!(
+        help.starts_with("Run the bond-graph models of bgdsl-cli."),
+        "{help}"
+    );
+    assert!(
+        help.contains("Without a command, runs mass_spring and writes out/mass_spring/."),
+        "{help}"
+    );
+    let params = command
+        .find_subcommand_mut("params")
+        .unwrap()
+        .render_long_help()
+        .to_string();
+    assert!(
+        params.contains("The model (see `bgdsl-cli list`)"),
+        "{params}"
+    );
+    assert!(!params.contains("`models "), "{params}");
+}
