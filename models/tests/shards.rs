@@ -232,6 +232,30 @@ fn merged_sweep_shards_equal_the_one_process_sweep() {
     ]);
     assert_same_files(&full, &merged, &["sweep.csv"]);
     check_png(&merged.join("sweep_peak_tyre_force.png"), 1024, 640);
+    // Without --out: shards go to out/<name>-shard-K-of-N, the merge to out/<name>.
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let o = run_in(
+            &dir,
+            &["run", s(&sweep()), "--t-end", "1.0", "--shard", &shard],
+        );
+        assert_success(&o);
+    }
+    let o = run_in(
+        &dir,
+        &[
+            "merge",
+            "out/quarter_car_speed-t_end=1-shard-1-of-3",
+            "out/quarter_car_speed-t_end=1-shard-2-of-3",
+            "out/quarter_car_speed-t_end=1-shard-3-of-3",
+        ],
+    );
+    assert_success(&o);
+    assert_same_files(
+        &full,
+        &dir.join("out/quarter_car_speed-t_end=1"),
+        &["sweep.csv"],
+    );
     // A shard of a different sweep (another end time) is another study.
     let other = dir.join("other");
     run_ok(&[

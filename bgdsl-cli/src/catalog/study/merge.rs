@@ -11,14 +11,17 @@ use super::{StudyOutcome, StudyShape};
 use crate::provenance::{self, RunRecord};
 use crate::study::manifest::{self, Manifest};
 
-/// Joins shard folders into the one-process result at `out` (see the [module
-/// documentation](self)).
+/// Joins the shard folders `dirs` of a study or a sweep (`run ... --shard K/N`) into
+/// the one-process result at `out`, as one results set: the data files bit for bit as
+/// the run without shards writes them, the figures and `index.html` drawn again, and
+/// `run.yaml`. Nothing is written when the shards do not make one whole study.
 ///
 /// # Errors
 ///
-/// The manifests' problems (every one, naming the folders) or an unreadable shard as
-/// [`RunError::Figures`]-free messages in `Err(Left)`; a failure to write as
-/// [`RunError`].
+/// The outer `Err`: every problem with the set (other studies, duplicates, gaps,
+/// partial shards, unreadable or edited files, `out` being one of `dirs`), one message
+/// each, naming the folders; nothing was written. The inner `Err`: the joined set
+/// could not be written ([`RunError`]).
 pub fn merge(
     dirs: &[PathBuf],
     out: &Path,
