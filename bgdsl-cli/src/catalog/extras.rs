@@ -79,6 +79,12 @@ pub trait Extras: Send + Sync {
         None
     }
 
+    /// Whether the generic figures are drawn for this entry (by default when the
+    /// extras have no figures of their own, see [`figure_ids`](Self::figure_ids)).
+    fn generic_figures(&self) -> bool {
+        self.figure_ids().is_none()
+    }
+
     /// The stem of the file of recorded columns, by default the entry's name (the quick
     /// return's is `quick_return_extra`, beside its own `quick_return.csv`).
     fn table_stem(&self, entry: &Entry) -> String {

@@ -514,7 +514,7 @@ fn draw(
         drawn.extend(extra.figures(dir, &plan.plots)?);
     }
     if let Some(table) = table {
-        if entry.extras.figure_ids().is_none() {
+        if entry.extras.generic_figures() {
             drawn.extend(figures::trajectory(entry, table, dir, &plan.plots)?);
         } else if plan.record.is_none() {
             drawn.extend(figures::trajectory(entry, table, dir, &Plots::All)?);
