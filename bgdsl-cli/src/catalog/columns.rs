@@ -110,9 +110,10 @@ pub fn units_path(results: &Path) -> std::path::PathBuf {
     results.with_file_name(format!("{stem}.units.csv"))
 }
 
-/// Writes the units side file (see the [module documentation](self)) of a results file
-/// with columns `names` (`t` included) of `model` beside `results`, whole or not at
-/// all, and returns its path.
+/// Writes the units side file `<stem>.units.csv` (a header row
+/// `column,unit,description`, then one row per column, `t` first as `t,s,time`; a unit
+/// is empty where the model declares none) of a results file with columns `names` (`t`
+/// included) of `model` beside `results`, whole or not at all, and returns its path.
 pub fn write_units(
     model: &dyn CatalogModel,
     results: &Path,

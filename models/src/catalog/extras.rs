@@ -24,7 +24,10 @@ use crate::quick_return::run::Recorded;
 use crate::quick_return::summary::Summary;
 use crate::quick_return_rigid::DrivenMechanism;
 
-/// The extras of quick return model `M` (see the [module documentation](self)).
+/// The extras of quick return model `M`: the spec's results file `quick_return.csv`
+/// with its units, the paper's figures, the flagship's summary and, for a hybrid
+/// variant, the comparison run; the table of recorded columns becomes
+/// `quick_return_extra.csv`.
 pub struct QuickReturnExtras<M> {
     compare: Option<&'static Compare>,
     model: PhantomData<fn() -> M>,
