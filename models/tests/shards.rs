@@ -638,6 +638,32 @@ fn study_errors_point_at_their_line() {
         "{}",
         out.stderr
     );
+    // A listed figure must be a banded column's; only those are drawn.
+    let listed = |plots: &str| {
+        format!(
+            "model: quarter_car\noutput: {{interval: 0.05, record: [tyre_force, body_height]}}\n\
+             plots: {plots}\nmonte_carlo:\n  samples: 3\n  seed: 1\n  parameters:\n    \
+             g: {{uniform: [9, 10]}}\n"
+        )
+    };
+    fs::write(dir.join("plots.yaml"), listed("[tyre_force, damper_power]")).unwrap();
+    let out = run_in(&dir, &["run", "plots.yaml"]);
+    assert_code(&out, 2);
+    assert_eq!(
+        out.stderr.trim_end(),
+        "error: plots.yaml:3:1: figure `damper_power` would draw nothing: a study draws the \
+         band of each banded column (tyre_force, body_height); name one of those, or band \
+         `damper_power` with `output.record`"
+    );
+    fs::write(dir.join("plots.yaml"), listed("[tyre_force]")).unwrap();
+    assert_success(&run_in(&dir, &["run", "plots.yaml", "--out", "listed"]));
+    let drawn: Vec<String> = files(&dir.join("listed"))
+        .into_iter()
+        .filter(|f| f.ends_with(".png"))
+        .collect();
+    assert_eq!(drawn, ["band_tyre_force.png"]);
+    fs::remove_dir_all(dir.join("listed")).unwrap();
+    fs::remove_file(dir.join("plots.yaml")).unwrap();
     // The section's own keys are checked like every scenario key.
     fs::write(
         dir.join("shape.yaml"),

@@ -197,6 +197,9 @@ pub(super) fn bands(
     use crate::plot::{draw_line_chart_with, ChartOptions, Fill, SeriesStyle};
     let mut drawn = Vec::new();
     for (c, (name, unit)) in shape.columns.iter().enumerate() {
+        if shape.only.as_ref().is_some_and(|ids| !ids.contains(name)) {
+            continue;
+        }
         stop_if_interrupted()?;
         let band = |lo: usize, hi: usize| -> Vec<(f64, f64, f64)> {
             times

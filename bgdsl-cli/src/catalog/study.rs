@@ -148,6 +148,10 @@ pub struct StudyShape {
     pub columns: Vec<(String, String)>,
     /// Whether charts are drawn.
     pub plots: bool,
+    /// The columns whose band charts are drawn when a scenario lists them (`plots:
+    /// [...]`); `None`: every banded column's.
+    #[serde(default)]
+    pub only: Option<Vec<String>>,
 }
 
 /// One sample's numbers.
@@ -262,6 +266,10 @@ pub fn run_study(
             })
             .collect(),
         plots: plan.base.plots != Plots::None,
+        only: match &plan.base.plots {
+            Plots::Only(ids) => Some(ids.clone()),
+            _ => None,
+        },
     };
     let dir = folder.path().to_path_buf();
     let mut head = String::new();

@@ -10,7 +10,9 @@ use serde_yaml::{Mapping, Value};
 use super::locate::KeyPath;
 use super::resolve::Places;
 use super::{Diagnostics, MonteCarloSpec, Origin, Source};
-use crate::catalog::{all_outputs, describe_value, DrawnParameter, Entry, RunPlan, StudyPlan};
+use crate::catalog::{
+    all_outputs, describe_value, DrawnParameter, Entry, Plots, RunPlan, StudyPlan,
+};
 
 /// The most samples a study may have.
 pub const MAX_SAMPLES: usize = 1_000_000;
@@ -102,6 +104,22 @@ pub(super) fn study(
         Some(record) => record.clone(),
         None => all_outputs(&*entry.model),
     };
+    if let Plots::Only(ids) = &base.plots {
+        for (i, id) in ids.iter().enumerate() {
+            if !columns.iter().any(|(name, _)| name == id) {
+                let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
+                d.push(
+                    places.file(&KeyPath::keys(&["plots"]).index(i)),
+                    format!(
+                        "figure `{id}` would draw nothing: a study draws the band of each \
+                         banded column ({}); name one of those, or band `{id}` with \
+                         `output.record`",
+                        names.join(", ")
+                    ),
+                );
+            }
+        }
+    }
     if columns.is_empty() {
         d.push(
             places.file(&KeyPath::keys(&["output", "record"])),
