@@ -21,7 +21,7 @@
 //! |---|---|
 //! | 0 | success |
 //! | 1 | the run failed or was interrupted (a first SIGINT, SIGTERM or SIGHUP): its partial set is in `<out>.partial/` and `<out>` is untouched; or the set could not be written (nothing changed), or `dot` failed |
-//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`; nothing was written |
+//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`, a `--shard` of a single run, a `merge` of folders that are not all the shards of one complete study; nothing was written |
 //! | 69 | a missing external prerequisite, nothing written: Graphviz's `dot` for `graph --svg`, the FMI library (`libbgdsl_fmi.so`, missing or built from other model code) for `fmu` (69 is `EX_UNAVAILABLE` of `sysexits.h`) |
 //! | 130 | a second signal (SIGINT, SIGTERM or SIGHUP) during a run: the staging folder is removed, `<out>` and `<out>.partial/` are untouched |
 //!
