@@ -14,6 +14,12 @@
 //!
 //! Each iteration writes its results set (staging folder, swap) in the target's
 //! temporary directory.
+//!
+//! Measured on the project's 2-core machine, shared with other builds (±10 % and more
+//! from run to run): `sweep_40` 92 ms, `study_40` 115 ms (the trajectories, bands and
+//! 0.6 MB of CSV add a quarter to the same number of runs), `merge_4_shards` 38 ms
+//! (28–48 ms: reading the shards' CSVs back, the bands and the writing; a third of the
+//! study).
 
 use std::path::{Path, PathBuf};
 
