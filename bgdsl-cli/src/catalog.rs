@@ -54,6 +54,13 @@
 //! each metric: the largest magnitude over the window), one chart per metric
 //! (`sweep_peak_<name>.png`, `.svg`) and `index.html`; no per-run results.
 //!
+//! A Monte Carlo study ([`run_study`]) runs every sample the same way and writes
+//! `samples.csv`, `trajectories.csv`, `bands.csv`, one band chart per banded column
+//! (`band_<name>.png`, `.svg`), `index.html` and `run.yaml` (see the scenario's
+//! `monte_carlo:`). With `--shard K/N` a sweep or a study runs one block of its points
+//! or samples into a shard folder with `shard.yaml` ([`crate::study::manifest`]), and
+//! [`merge`] joins the N folders into the one-process files, bit for bit.
+//!
 //! # Results folders
 //!
 //! A run's files (its results CSVs, figures, `index.html`) form one set, and an output
@@ -132,6 +139,7 @@ pub mod folder;
 mod params;
 mod run;
 pub mod size;
+mod study;
 mod sweep;
 
 use bgdsl_runtime::{CausalGraph, ParameterInfo};
@@ -154,6 +162,7 @@ pub use run::{
     create_dir as create_output_dir, initial_state, params_from, Observer, Outcome, Plots,
     RunError, RunPlan, Silent, SolverSettings,
 };
+pub use study::{all_outputs, merge, run_study, DrawnParameter, StudyOutcome, StudyPlan};
 pub use sweep::{metric_unit, run_sweep, Axis, Metric, SweepOutcome, SweepPlan};
 
 /// A model of the catalogue behind an object-safe interface, so that the program can
@@ -215,6 +224,18 @@ pub trait CatalogModel: Send + Sync {
         plan: &RunPlan,
         metrics: &[Metric],
         window: [f64; 2],
+        observer: &dyn Observer,
+    ) -> Result<Vec<f64>, RunError>;
+    /// Runs one sample of a study and returns `columns` at every sample time, row-major
+    /// (times, then columns).
+    ///
+    /// # Errors
+    ///
+    /// [`RunError`] when the run fails or is stopped.
+    fn trajectory(
+        &self,
+        plan: &RunPlan,
+        columns: &[Column],
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError>;
 }

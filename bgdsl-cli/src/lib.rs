@@ -44,6 +44,7 @@ pub mod plot;
 pub mod provenance;
 pub mod report;
 pub mod scenario;
+pub mod study;
 
 use std::process::ExitCode;
 

@@ -320,9 +320,11 @@ pub struct RunRecord {
     /// The parameters that differ from the model's defaults (for a sweep, other than
     /// the swept ones).
     pub overrides: Vec<Override>,
-    /// Every parameter (for a sweep, the swept ones at the value they have outside it).
+    /// Every parameter (for a sweep, the swept ones at the value they have outside it;
+    /// for a study, all but the drawn ones).
     pub parameters: Mapping,
-    /// The initial state, every state by name.
+    /// The initial state, every state by name (for a study, only those the scenario
+    /// set: the others follow from each sample's drawn parameters).
     pub initial: Mapping,
     /// The states whose initial value the scenario set.
     pub initial_overridden: Vec<String>,
@@ -344,6 +346,27 @@ pub struct RunRecord {
     /// The sweep, for a sweep.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepRecord>,
+    /// The Monte Carlo study, for a study.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<StudyRecord>,
+    /// `K/N` for a shard (`run --shard K/N`) of a sweep or study.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<String>,
+    /// The shard folders a `merge` joined into this one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub merged_from: Vec<String>,
+}
+
+/// A Monte Carlo study, as a scenario's `monte_carlo:` (a `csv` column written as the
+/// `values` it gave).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudyRecord {
+    /// The number of samples.
+    pub samples: usize,
+    /// The seed.
+    pub seed: u64,
+    /// Each drawn parameter's distribution.
+    pub parameters: Mapping,
 }
 
 impl RunRecord {
@@ -394,7 +417,8 @@ impl RunRecord {
         Ok(record)
     }
 
-    fn build(
+    /// The record of `plan`'s run, the parameters `except` left out of the overrides.
+    pub(crate) fn build(
         entry: &Entry,
         plan: &RunPlan,
         except: &[&str],
@@ -480,6 +504,9 @@ impl RunRecord {
                 .map(|n| n.to_string_lossy().into_owned())
                 .collect(),
             sweep: None,
+            monte_carlo: None,
+            shard: None,
+            merged_from: Vec::new(),
         })
     }
 }

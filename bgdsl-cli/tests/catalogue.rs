@@ -136,7 +136,7 @@ fn plan(name: &str, set: &[&str], out: &Path) -> Result<RunPlan, String> {
     match resolve(&CATALOGUE, None, &scenario, &overrides, name) {
         Ok(plan) => match plan.job {
             Job::Run(run) => Ok(run),
-            Job::Sweep(_) => Err("a sweep".to_owned()),
+            Job::Sweep(_) | Job::Study(_) => Err("not a run".to_owned()),
         },
         Err(d) => Err(d.to_string()),
     }

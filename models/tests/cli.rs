@@ -242,6 +242,7 @@ fn run_scenario(stem: &str, extra: &[&str]) -> (std::path::PathBuf, common::Run)
     (out_dir, out)
 }
 
+/// The shipped study is tested in `shards.rs`.
 #[test]
 fn every_shipped_scenario_is_tested() {
     let mut stems: Vec<String> = fs::read_dir(scenarios_dir())
@@ -254,6 +255,7 @@ fn every_shipped_scenario_is_tested() {
     assert_eq!(
         stems,
         [
+            "quarter_car_monte_carlo",
             "quarter_car_speed",
             "quick_return_default",
             "quick_return_g0",

@@ -179,8 +179,8 @@ fn a_sweep_refuses_phase_portraits() {
     assert_code(&run, 2);
     assert_eq!(
         run.stderr.trim_end(),
-        "error: sw.yaml:3:3: a sweep draws no phase portraits (it keeps no run's samples); \
-         run one point without `sweep` to draw them"
+        "error: sw.yaml:3:3: a sweep or a Monte Carlo study draws no phase portraits (it \
+         keeps no run's samples); run one point alone to draw them"
     );
     assert_eq!(files(&dir), ["sw.yaml"], "nothing written");
 }

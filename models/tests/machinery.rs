@@ -145,7 +145,7 @@ mod resolve {
     fn run_plan(plan: Plan) -> RunPlan {
         match plan.job {
             Job::Run(run) => run,
-            Job::Sweep(_) => panic!("not a run"),
+            Job::Sweep(_) | Job::Study(_) => panic!("not a run"),
         }
     }
 

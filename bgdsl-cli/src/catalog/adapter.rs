@@ -8,7 +8,7 @@ use serde::Serialize;
 use serde_yaml::{Mapping, Value};
 
 use super::entry::CheckFn;
-use super::run::{initial_state, params_from, run_model, sweep_point};
+use super::run::{initial_state, params_from, run_model, sweep_point, trajectory};
 use super::{CatalogModel, Checks, Entry, Metric, Observer, Outcome};
 use super::{Problem, RunError, RunPlan};
 
@@ -134,5 +134,14 @@ where
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError> {
         sweep_point::<M>(plan, metrics, window, observer)
+    }
+
+    fn trajectory(
+        &self,
+        plan: &RunPlan,
+        columns: &[super::Column],
+        observer: &dyn Observer,
+    ) -> Result<Vec<f64>, RunError> {
+        trajectory::<M>(plan, columns, observer)
     }
 }

@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 
 use super::columns::{column_unit, Table};
 use super::params::format_number;
-use super::{Entry, Plots, RunError, SweepPlan};
+use super::sweep::SweepShape;
+use super::{Entry, Plots, RunError};
 use crate::plot::{draw_line_chart, ImageFormat, LineChart, PlotError, Series};
 use crate::report::{write_index, DrawnFigure};
 
@@ -124,7 +125,7 @@ pub(super) fn trajectory(
 /// One chart per metric of a sweep, against the first axis (one curve per value of
 /// the second axis, if any).
 pub(super) fn sweep(
-    plan: &SweepPlan,
+    plan: &SweepShape,
     points: &[Vec<f64>],
     rows: &[Vec<f64>],
     dir: &Path,
@@ -137,7 +138,7 @@ pub(super) fn sweep(
         stop_if_interrupted()?;
         let series = match plan.axes.get(1) {
             None => vec![Series::new(
-                metric.label(),
+                metric.1.clone(),
                 points.iter().zip(rows).map(|(p, r)| (p[0], r[m])).collect(),
             )],
             Some(second) => second
@@ -158,21 +159,22 @@ pub(super) fn sweep(
         let chart = LineChart {
             title: format!(
                 "Peak |{}| over {} to {} s of each run, against {}",
-                metric.name, plan.window[0], plan.window[1], first.name
+                metric.0, plan.window[0], plan.window[1], first.name
             ),
             x_label: with_unit(&first.name, &first.unit),
-            y_label: metric.label(),
+            y_label: metric.1.clone(),
             series,
         };
-        let stem = format!("sweep_{}", file_stem(&metric.column_name()));
+        let column = format!("peak_{}", metric.0);
+        let stem = format!("sweep_{}", file_stem(&column));
         let files =
             draw_line_chart(&chart, &dir.join(stem), &ImageFormat::ALL).map_err(plot_error)?;
         drawn.push(DrawnFigure {
-            id: metric.column_name(),
+            id: column,
             title: chart.title,
             caption: format!(
                 "The largest magnitude of {} over {} to {} s of each run, against {}.",
-                metric.name, plan.window[0], plan.window[1], first.name
+                metric.0, plan.window[0], plan.window[1], first.name
             ),
             files,
         });
@@ -189,4 +191,77 @@ pub(super) fn index(
     sections: &[String],
 ) -> Result<PathBuf, RunError> {
     write_index(dir, title, summary, figures, sections).map_err(plot_error)
+}
+
+/// One chart per banded column of a Monte Carlo study: the median, the 25–75 % band
+/// and the 5–95 % band over the samples, against time.
+pub(super) fn bands(
+    shape: &super::study::StudyShape,
+    times: &[f64],
+    bands: &[Vec<[f64; 5]>],
+    samples: usize,
+    dir: &Path,
+) -> Result<Vec<DrawnFigure>, RunError> {
+    use crate::plot::{draw_line_chart_with, ChartOptions, Fill, SeriesStyle};
+    let mut drawn = Vec::new();
+    for (c, (name, unit)) in shape.columns.iter().enumerate() {
+        if shape.only.as_ref().is_some_and(|ids| !ids.contains(name)) {
+            continue;
+        }
+        stop_if_interrupted()?;
+        let band = |lo: usize, hi: usize| -> Vec<(f64, f64, f64)> {
+            times
+                .iter()
+                .zip(bands)
+                .map(|(t, row)| (*t, row[c][lo], row[c][hi]))
+                .collect()
+        };
+        let blue = (31, 119, 180);
+        let options = ChartOptions {
+            fills: vec![
+                Fill {
+                    points: band(0, 4),
+                    color: blue,
+                    opacity: 0.18,
+                },
+                Fill {
+                    points: band(1, 3),
+                    color: blue,
+                    opacity: 0.35,
+                },
+            ],
+            styles: vec![SeriesStyle::solid(blue)],
+            ..ChartOptions::default()
+        };
+        let chart = LineChart {
+            title: format!(
+                "{}: {name} over {samples} samples, median and the 25–75 % and 5–95 % bands",
+                shape.model
+            ),
+            x_label: "time t (s)".to_owned(),
+            y_label: with_unit(name, unit),
+            series: vec![Series::new(
+                "median",
+                times
+                    .iter()
+                    .zip(bands)
+                    .map(|(t, row)| (*t, row[c][2]))
+                    .collect(),
+            )],
+        };
+        let stem = format!("band_{}", file_stem(name));
+        let files = draw_line_chart_with(&chart, &options, &dir.join(stem), &ImageFormat::ALL)
+            .map_err(plot_error)?;
+        drawn.push(DrawnFigure {
+            id: format!("band_{name}"),
+            title: chart.title,
+            caption: format!(
+                "`{name}` at every sample time over the study's samples: the median (line), \
+                 the 25–75 % band (dark) and the 5–95 % band (light); quantiles of type 7, \
+                 as in bands.csv."
+            ),
+            files,
+        });
+    }
+    Ok(drawn)
 }

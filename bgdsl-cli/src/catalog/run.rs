@@ -658,3 +658,42 @@ impl fmt::Display for SolverSettings<'_> {
         }
     }
 }
+
+/// Records the values of some columns at every sample: row-major, times then columns.
+struct Samples<'a> {
+    columns: &'a [Column],
+    values: Vec<f64>,
+}
+
+impl Recorder for Samples<'_> {
+    fn record(&mut self, _t: f64, x: &[f64], y: &[f64]) {
+        self.values
+            .extend(self.columns.iter().map(|c| c.value(x, y)));
+    }
+}
+
+/// Runs one sample of a study and returns `columns` at every sample time (row-major:
+/// times, then columns).
+pub(super) fn trajectory<M: FromParams>(
+    plan: &RunPlan,
+    columns: &[Column],
+    observer: &dyn Observer,
+) -> Result<Vec<f64>, RunError>
+where
+    M::Params: DeserializeOwned,
+{
+    let model = M::from_params(params_from(&plan.params)?);
+    let mut samples = Samples {
+        columns,
+        values: Vec::with_capacity(plan.times.len() * columns.len()),
+    };
+    let run = integrate(&model, plan, vec![&mut samples], observer)?;
+    match run.error {
+        Some(source) => Err(RunError::Solver {
+            solver: plan.solver.name(),
+            source,
+        }),
+        None if observer.stop_requested() => Err(RunError::NotRun),
+        None => Ok(samples.values),
+    }
+}

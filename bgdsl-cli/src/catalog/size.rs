@@ -1,7 +1,8 @@
 //! The size guard's estimates: how much a run writes, how much work a sweep is.
 
-use super::{Entry, RunPlan, SweepPlan};
+use super::{Entry, RunPlan, StudyPlan, SweepPlan};
 use crate::plot::decimate::thousands;
+use crate::study::shard::Shard;
 
 /// The most bytes one number takes in a results CSV, with its separator: the shortest
 /// decimal that reads back to an `f64` has at most 17 significant digits, a sign, a
@@ -56,6 +57,28 @@ pub fn run_too_large(entry: &Entry, plan: &RunPlan) -> Option<String> {
             format_bytes(bytes),
             thousands(plan.times.len() as u64),
             results_columns(entry, plan),
+            format_bytes(MAX_RUN_BYTES)
+        )
+    })
+}
+
+/// As [`run_too_large`] for a Monte Carlo study (or its `shard`): its
+/// `trajectories.csv`, every sample at every time (`index`, `t` and the banded
+/// columns), is most of what it writes.
+pub fn study_too_large(plan: &StudyPlan, shard: Option<Shard>) -> Option<String> {
+    let samples = shard.map_or(plan.samples, |s| s.range(plan.samples).len()) as u64;
+    let rows = samples * plan.base.times.len() as u64;
+    let columns = 2 + plan.columns.len() as u64;
+    let bytes = rows * columns * BYTES_PER_NUMBER;
+    (bytes > MAX_RUN_BYTES).then(|| {
+        format!(
+            "this study would write up to {} of trajectories ({} samples × {} times × {} \
+             columns), more than the {} the program writes without asking; fewer samples, \
+             a larger interval or --shard K/N make it smaller",
+            format_bytes(bytes),
+            thousands(samples),
+            thousands(plan.base.times.len() as u64),
+            columns,
             format_bytes(MAX_RUN_BYTES)
         )
     })

@@ -3,7 +3,7 @@
 
 use core::fmt::Write as _;
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use bgdsl_runtime::record::{write_atomically, write_number};
@@ -11,15 +11,19 @@ use bgdsl_runtime::Recorder;
 use rayon::prelude::*;
 use serde_yaml::Value;
 
+use crate::study::manifest::{self, study_hash, Manifest};
+use crate::study::shard::Shard;
+
 use super::folder::RunFolder;
 use super::params::{format_number, format_significant};
 use super::run::{settle_drawing, Observer};
+use super::study::StudyOutcome;
 use super::{figures, Column, Entry, RunError, RunPlan};
 use crate::provenance;
 use crate::report::INDEX_FILE;
 
 /// One swept parameter and its values.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Axis {
     /// The parameter's name (a scalar parameter).
     pub name: String,
@@ -100,6 +104,156 @@ impl SweepPlan {
     }
 }
 
+/// What a sweep's table and charts need besides the numbers: kept in a shard's
+/// manifest so that `merge` draws what the one-process run draws.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SweepShape {
+    /// The axes.
+    pub axes: Vec<Axis>,
+    /// Each metric's name and label (`peak |Tc| (N·m)`).
+    pub metrics: Vec<(String, String)>,
+    /// The window of the peaks, s.
+    pub window: [f64; 2],
+    /// The title of `index.html`.
+    pub title: String,
+    /// The model's name.
+    pub model: String,
+    /// Whether charts are drawn.
+    pub plots: bool,
+}
+
+impl SweepPlan {
+    /// The shape of its files.
+    pub fn shape(&self, entry: &Entry) -> SweepShape {
+        SweepShape {
+            axes: self.axes.clone(),
+            metrics: self
+                .metrics
+                .iter()
+                .map(|m| (m.name.clone(), m.label()))
+                .collect(),
+            window: self.window,
+            title: self.base.title.clone(),
+            model: entry.name.to_owned(),
+            plots: self.base.plots != super::Plots::None,
+        }
+    }
+
+    /// Every setting that changes a result, as text, for the study's hash.
+    fn canonical(&self, entry: &Entry) -> String {
+        let metrics: Vec<(&str, Vec<Column>)> = self
+            .metrics
+            .iter()
+            .map(|m| (m.name.as_str(), m.columns.clone()))
+            .collect();
+        format!(
+            "sweep\n{}\n{}{:?}\n{metrics:?}\n{:?}\n",
+            entry.name,
+            super::study::canonical_run(&self.base),
+            self.axes,
+            self.window
+        )
+    }
+}
+
+/// Writes `sweep.csv`: the axes' names and `peak_<metric>`, then one row per point.
+fn write_table(
+    dir: &Path,
+    shape: &SweepShape,
+    points: &[Vec<f64>],
+    rows: &[Vec<f64>],
+) -> Result<PathBuf, RunError> {
+    let path = dir.join(TABLE);
+    let header: Vec<String> = shape
+        .axes
+        .iter()
+        .map(|a| a.name.clone())
+        .chain(shape.metrics.iter().map(|(n, _)| format!("peak_{n}")))
+        .collect();
+    write_atomically(&path, |out| {
+        writeln!(out, "{}", header.join(","))?;
+        for (point, values) in points.iter().zip(rows) {
+            for (i, v) in point.iter().chain(values).enumerate() {
+                if i > 0 {
+                    out.write_all(b",")?;
+                }
+                write_number(out, *v)?;
+            }
+            out.write_all(b"\n")?;
+        }
+        Ok(())
+    })?;
+    Ok(path)
+}
+
+/// The sweep's table.
+const TABLE: &str = "sweep.csv";
+
+/// Joins the shard folders of a sweep (checked by [`manifest::check`]) into `out`:
+/// `sweep.csv` as the one-process run writes it, its charts and `index.html`.
+pub(super) fn merge_sweep(
+    shards: &[(PathBuf, Manifest)],
+    out: &Path,
+    observer: &dyn Observer,
+) -> Result<Result<StudyOutcome, RunError>, Vec<String>> {
+    let shape: SweepShape = serde_yaml::from_value(shards[0].1.details.clone()).map_err(|e| {
+        vec![format!(
+            "{}: {}: {e}",
+            shards[0].0.display(),
+            manifest::FILE_NAME
+        )]
+    })?;
+    let axes = shape.axes.len();
+    let mut points = Vec::new();
+    let mut rows = Vec::new();
+    for (dir, m) in shards {
+        let (_, table) = super::study::read_table(&dir.join(TABLE)).map_err(|e| vec![e])?;
+        if table.len() != m.end - m.first {
+            return Err(vec![format!(
+                "{}: {TABLE} has {} rows, the manifest says {} points",
+                dir.display(),
+                table.len(),
+                m.end - m.first
+            )]);
+        }
+        for row in table {
+            points.push(row[..axes].to_vec());
+            rows.push(row[axes..].to_vec());
+        }
+    }
+    let started = Instant::now();
+    let result = (|| {
+        let folder = RunFolder::begin(out)?;
+        let dir = folder.path();
+        let path = write_table(dir, &shape, &points, &rows)?;
+        let drawing = if !shape.plots || observer.stop_requested() {
+            Ok(Vec::new())
+        } else {
+            figures::sweep(&shape, &points, &rows, dir)
+        };
+        let mut failure = None;
+        let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
+        let summary = format!(
+            "sweep          {}: {} points merged from {} shards\n",
+            shape.model,
+            points.len(),
+            shards.len()
+        );
+        figures::index(dir, &shape.title, &summary, &drawn, &[])?;
+        super::study::merged_record(shards, dir, &[TABLE.to_owned()])?;
+        let name = path.file_name().unwrap_or_default().to_owned();
+        let target = folder.commit(failure.is_some())?;
+        Ok(StudyOutcome {
+            summary: format!("{summary}results        {}\n", target.display()),
+            files: vec![target.join(name), target.join(INDEX_FILE)],
+            failure,
+            figures_error,
+            wall: started.elapsed(),
+        })
+    })();
+    Ok(result)
+}
+
 /// What a sweep produced.
 #[derive(Clone, Debug)]
 pub struct SweepOutcome {
@@ -178,9 +332,12 @@ impl Observer for PointObserver<'_> {
 pub fn run_sweep(
     entry: &Entry,
     plan: &SweepPlan,
+    shard: Option<Shard>,
     observer: &dyn Observer,
 ) -> Result<SweepOutcome, RunError> {
-    let points = plan.points();
+    let all = plan.points();
+    let range = shard.map_or(0..all.len(), |s| s.range(all.len()));
+    let points = all[range.clone()].to_vec();
     let folder = RunFolder::begin(&plan.base.out_dir)?;
     observer.sweep_started(points.len());
     let started = Instant::now();
@@ -222,31 +379,30 @@ pub fn run_sweep(
         .collect();
 
     let dir = folder.path();
-    let table_name = "sweep.csv";
-    let header: Vec<String> = plan
-        .axes
-        .iter()
-        .map(|a| a.name.clone())
-        .chain(plan.metrics.iter().map(Metric::column_name))
-        .collect();
-    write_atomically(&dir.join(table_name), |out| {
-        writeln!(out, "{}", header.join(","))?;
-        for (point, values) in points.iter().zip(&rows) {
-            for (i, v) in point.iter().chain(values).enumerate() {
-                if i > 0 {
-                    out.write_all(b",")?;
-                }
-                write_number(out, *v)?;
-            }
-            out.write_all(b"\n")?;
-        }
-        Ok(())
-    })?;
+    let shape = plan.shape(entry);
+    let table_name = TABLE;
+    write_table(dir, &shape, &points, &rows)?;
+    if let Some(shard) = shard {
+        let manifest = Manifest {
+            program: super::study::program(&plan.base),
+            study: study_hash(&super::study::program(&plan.base), &plan.canonical(entry)),
+            kind: "sweep".to_owned(),
+            shard: shard.index,
+            shards: shard.count,
+            items: all.len(),
+            first: range.start,
+            end: range.end,
+            complete: failures.is_empty(),
+            details: serde_yaml::to_value(&shape).unwrap_or_default(),
+        };
+        let path = dir.join(manifest::FILE_NAME);
+        write_atomically(&path, |out| out.write_all(manifest.to_yaml().as_bytes()))?;
+    }
 
-    let drawing = if plan.base.plots == super::Plots::None || observer.stop_requested() {
+    let drawing = if !shape.plots || shard.is_some() || observer.stop_requested() {
         Ok(Vec::new())
     } else {
-        figures::sweep(plan, &points, &rows, dir)
+        figures::sweep(&shape, &points, &rows, dir)
     };
     let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
     let partial = failure.is_some();
@@ -321,13 +477,14 @@ pub fn run_sweep(
     }
 
     summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
-    provenance::write_sweep(
-        dir,
+    let mut record = provenance::RunRecord::of_sweep(
         entry,
         plan,
         std::slice::from_ref(&path),
         failure.as_deref(),
     )?;
+    record.shard = shard.map(|s| s.to_string());
+    provenance::write(dir, &record)?;
     figures::index(dir, &plan.base.title, &summary, &drawn, &[])?;
     let target = folder.commit(partial)?;
     let mut files = vec![path, target.join(provenance::FILE_NAME)];

@@ -10,7 +10,8 @@
 //! models run <model | scenario.yaml> [--out DIR] [--set NAME=VALUE ...]
 //!            [--solver NAME] [--rtol X] [--atol X] [--step X] [--max-steps N]
 //!            [--t-start X] [--t-end X] [--interval X] [--no-plots] [--phase X,Y ...]
-//!            [--yes]
+//!            [--yes] [--shard K/N]
+//! models merge DIR... [--out DIR]         join shard folders into the one-process result
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
 //! ```
 //!
@@ -20,7 +21,7 @@
 //! |---|---|
 //! | 0 | success |
 //! | 1 | the run failed or was interrupted (a first SIGINT, SIGTERM or SIGHUP): its partial set is in `<out>.partial/` and `<out>` is untouched; or the set could not be written (nothing changed), or `dot` failed |
-//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`; nothing was written |
+//! | 2 | a usage or validation error: bad flags, an unknown model, a scenario error, an output folder with foreign content, a run larger than the size guard allows without `--yes`, a `--shard` of a single run, a `merge` of folders that are not all the shards of one complete study; nothing was written |
 //! | 69 | a missing external prerequisite, nothing written: Graphviz's `dot` for `graph --svg`, the FMI library for `fmu` (`lib<package>.so` of the catalogue's [`fmi_package`](crate::Catalogue::fmi_package), `libbgdsl_fmi.so` for `models`; missing or built from other model code) (69 is `EX_UNAVAILABLE` of `sysexits.h`) |
 //! | 130 | a second signal (SIGINT, SIGTERM or SIGHUP) during a run: the staging folder is removed, `<out>` and `<out>.partial/` are untouched |
 //!
@@ -96,6 +97,21 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Join the shard folders of a sweep or study (`run ... --shard K/N`) into the
+    /// one-process result.
+    ///
+    /// Refuses folders of different studies, a shard given twice, missing or partial
+    /// shards. Writes the data files the run without shards writes, bit for bit, and
+    /// draws the figures and index.html again.
+    Merge {
+        /// The shard folders, all N of them, in any order.
+        #[arg(required = true, value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+        /// The output folder [default: the first folder's name without
+        /// `-shard-K-of-N`].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Print the model's causal bond graph as Graphviz DOT (or SVG).
     Graph {
         /// The model (see `models list`).
@@ -159,6 +175,13 @@ pub struct RunArgs {
     /// (repeatable; beside the scenario's `plots: {phase: [[x, speed]]}`).
     #[arg(long, value_name = "X,Y")]
     pub phase: Vec<String>,
+    /// Run only the K-th of N disjoint parts of a sweep or Monte Carlo study (K in
+    /// 1..=N), into a shard folder [default: out/NAME-shard-K-of-N] that `merge`
+    /// joins with the others (for Slurm: `--shard ${SLURM_ARRAY_TASK_ID}/N` with
+    /// `--array=1-N`; for a Kubernetes Indexed Job:
+    /// `--shard $((JOB_COMPLETION_INDEX + 1))/N`).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<crate::study::shard::Shard>,
     /// Run even if the results would take more than 1 GB (rows × columns × 24 bytes),
     /// or a sweep has more than 1000 runs, 1e8 samples in all or an estimated hour;
     /// without it the program asks at a terminal and refuses otherwise.
@@ -328,6 +351,7 @@ pub fn execute(cli: Cli, catalogue: &'static Catalogue) -> Result<(), Failure> {
             outputs,
         }) => info::params(catalogue, &model, states, outputs),
         Some(Command::Run(args)) => run::run(&args, catalogue),
+        Some(Command::Merge { dirs, out }) => run::merge(&dirs, out),
         Some(Command::Graph { model, svg }) => graph::graph(catalogue, &model, svg),
         Some(Command::Fmu { model, out }) => fmu::fmu(catalogue, &model, out),
     }

@@ -7,8 +7,9 @@ use std::path::Path;
 use super::info::print;
 use super::progress::Progress;
 use super::{Failure, RunArgs};
-use crate::catalog::{run_sweep, size, Catalogue};
-use crate::scenario::{self, resolve, Job, Origin, Overrides, Scenario};
+use crate::catalog::{run_study, run_sweep, size, Catalogue};
+use crate::scenario::{self, resolve, Job, Origin, Overrides, Plan, Scenario};
+use crate::study::shard::Shard;
 
 /// Whether the target names a scenario file rather than a model.
 fn is_scenario(target: &str) -> bool {
@@ -71,12 +72,17 @@ pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), F
         })
     }
     .map_err(Failure::Invalid)?;
+    let mut plan = plan;
+    if let Some(shard) = args.shard {
+        shard_out_dir(&mut plan, shard, args.out.is_none())?;
+    }
 
     // The size guard (`--yes` skips it, and the sweep's timing probe with it).
     let too_large = match &plan.job {
         _ if args.yes => None,
         Job::Run(run) => size::run_too_large(plan.entry, run),
         Job::Sweep(sweep) => size::sweep_too_large(plan.entry, sweep),
+        Job::Study(study) => size::study_too_large(study, args.shard),
     };
     if let Some(estimate) = too_large {
         confirm(&estimate)?;
@@ -99,8 +105,20 @@ pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), F
                 first,
             )
         }
+        Job::Study(study) => {
+            let outcome =
+                run_study(plan.entry, study, args.shard, &progress).map_err(Failure::Run)?;
+            let first = outcome.files.into_iter().next();
+            (
+                outcome.summary,
+                outcome.failure,
+                outcome.figures_error,
+                first,
+            )
+        }
         Job::Sweep(sweep) => {
-            let outcome = run_sweep(plan.entry, sweep, &progress).map_err(Failure::Run)?;
+            let outcome =
+                run_sweep(plan.entry, sweep, args.shard, &progress).map_err(Failure::Run)?;
             let first = outcome.files.into_iter().next();
             (
                 outcome.summary,
@@ -143,5 +161,63 @@ fn confirm(estimate: &str) -> Result<(), Failure> {
         Ok(())
     } else {
         Err(refused())
+    }
+}
+
+/// Checks that `--shard` applies (a sweep or a study with at least as many items as
+/// shards) and, without `--out`, names the shard's folder `<out>-shard-K-of-N`.
+fn shard_out_dir(plan: &mut Plan, shard: Shard, default_dir: bool) -> Result<(), Failure> {
+    let (items, what, base) = match &mut plan.job {
+        Job::Run(_) => {
+            return Err(Failure::Usage(
+                "--shard splits a sweep or a Monte Carlo study; this scenario is one run"
+                    .to_owned(),
+            ))
+        }
+        Job::Sweep(sweep) => (sweep.points().len(), "sweep points", &mut sweep.base),
+        Job::Study(study) => (study.samples, "samples", &mut study.base),
+    };
+    shard
+        .check_items(items, what)
+        .map_err(|e| Failure::Usage(format!("--shard {shard}: {e}")))?;
+    if default_dir {
+        let mut name = base.out_dir.as_os_str().to_owned();
+        name.push(format!("-shard-{}-of-{}", shard.index, shard.count));
+        base.out_dir = name.into();
+    }
+    Ok(())
+}
+
+/// `models merge DIR... [--out DIR]`.
+pub(super) fn merge(
+    dirs: &[std::path::PathBuf],
+    out: Option<std::path::PathBuf>,
+) -> Result<(), Failure> {
+    let out = out.unwrap_or_else(|| merged_dir(dirs));
+    crate::interrupt::install_handler();
+    let progress = Progress::new();
+    let outcome = crate::catalog::merge(dirs, &out, &progress)
+        .map_err(|errors| Failure::Usage(errors.join("\n")))?
+        .map_err(Failure::Run)?;
+    print(&outcome.summary)?;
+    match (outcome.failure, outcome.figures_error) {
+        (Some(reason), _) => Err(Failure::Partial {
+            reason,
+            file: outcome.files.into_iter().next(),
+        }),
+        (None, Some(error)) => Err(Failure::Other(format!(
+            "the results were written, but drawing the figures failed: {error}"
+        ))),
+        (None, None) => Ok(()),
+    }
+}
+
+/// The default folder of a merge: the first shard's without `-shard-K-of-N`.
+fn merged_dir(dirs: &[std::path::PathBuf]) -> std::path::PathBuf {
+    let first = dirs.first().cloned().unwrap_or_default();
+    let text = first.to_string_lossy();
+    match text.rfind("-shard-") {
+        Some(at) => text[..at].into(),
+        None => format!("{text}-merged").into(),
     }
 }

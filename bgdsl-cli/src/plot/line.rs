@@ -89,6 +89,18 @@ pub const PALETTE: [(u8, u8, u8); 6] = [
     (0, 0, 0),
 ];
 
+/// A shaded band between two curves over the same x values, drawn under the series
+/// (e.g. the 5–95 % quantiles of a study's samples).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fill {
+    /// `(x, lower, upper)`, in x order; a point with a non-finite value breaks the band.
+    pub points: Vec<(f64, f64, f64)>,
+    /// Fill colour, RGB.
+    pub color: (u8, u8, u8),
+    /// Opacity in `[0, 1]`.
+    pub opacity: f64,
+}
+
 /// Choices beyond the chart's content. The default: [`DEFAULT_SIZE`], ranges fitted to
 /// the data with 4 % padding, round-number ticks, the [`PALETTE`].
 #[derive(Clone, Debug, PartialEq)]
@@ -106,6 +118,9 @@ pub struct ChartOptions {
     /// A remark written in the plot's top left corner, e.g. that a curve goes off
     /// scale (a chart whose curves were thinned for display says so below it).
     pub note: Option<String>,
+    /// Bands shaded under the series, in order (later ones on top); they count in the
+    /// fitted ranges.
+    pub fills: Vec<Fill>,
 }
 
 impl Default for ChartOptions {
@@ -117,6 +132,7 @@ impl Default for ChartOptions {
             x_ticks: None,
             styles: Vec::new(),
             note: None,
+            fills: Vec::new(),
         }
     }
 }
@@ -381,7 +397,19 @@ where
 /// The x and y ranges of the chart: fixed ones, or the data's with 4 % padding (the x
 /// range unpadded: the data usually start and end on the axis's natural limits).
 fn ranges(chart: &LineChart, options: &ChartOptions) -> ((f64, f64), (f64, f64)) {
-    let points = || chart.series.iter().flat_map(|s| s.points.iter());
+    let fills = || {
+        options
+            .fills
+            .iter()
+            .flat_map(|f| f.points.iter().flat_map(|&(x, lo, hi)| [(x, lo), (x, hi)]))
+    };
+    let points = || {
+        chart
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .chain(fills())
+    };
     let finite = || points().filter(|(x, y)| x.is_finite() && y.is_finite());
     let x = options
         .x_range
@@ -432,6 +460,9 @@ where
         .bold_line_style(BLACK.mix(0.15))
         .light_line_style(BLACK.mix(0.05))
         .draw()?;
+    for fill in &options.fills {
+        draw_fill(&mut ctx, fill, y_range)?;
+    }
     // Thinned for display (see `decimate`); the first series last, so that it is on top.
     let columns = ctx.plotting_area().dim_in_pixel().0 as usize;
     let thinned: Vec<Thinned> = chart
@@ -465,6 +496,34 @@ where
         .join("\n");
     if !note.is_empty() {
         draw_note(&ctx.plotting_area().strip_coord_spec(), &note)?;
+    }
+    Ok(())
+}
+
+/// Shades `fill` as one polygon per run of finite points (upper edge forward, lower edge
+/// back), its values clamped to the y range.
+fn draw_fill<DB: DrawingBackend>(
+    ctx: &mut ChartContext<'_, DB, Cartesian2d<TickedAxis, TickedAxis>>,
+    fill: &Fill,
+    (y_lo, y_hi): (f64, f64),
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let color = RGBColor(fill.color.0, fill.color.1, fill.color.2).mix(fill.opacity);
+    let finite = |p: &&(f64, f64, f64)| p.0.is_finite() && p.1.is_finite() && p.2.is_finite();
+    let points: Vec<&(f64, f64, f64)> = fill.points.iter().collect();
+    for run in points.split(|p| !finite(p)) {
+        if run.len() < 2 {
+            continue;
+        }
+        let clamp = |v: f64| v.clamp(y_lo, y_hi);
+        let outline: Vec<(f64, f64)> = run
+            .iter()
+            .map(|p| (p.0, clamp(p.2)))
+            .chain(run.iter().rev().map(|p| (p.0, clamp(p.1))))
+            .collect();
+        ctx.draw_series(std::iter::once(Polygon::new(outline, color.filled())))?;
     }
     Ok(())
 }
@@ -545,6 +604,28 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fills_count_in_the_fitted_ranges() {
+        let chart = LineChart {
+            series: vec![Series::new("median", vec![(0.0, 1.0), (2.0, 1.0)])],
+            ..LineChart::default()
+        };
+        let options = ChartOptions {
+            fills: vec![Fill {
+                points: vec![(0.0, -3.0, 5.0), (2.0, 0.0, 2.0)],
+                color: (0, 0, 255),
+                opacity: 0.2,
+            }],
+            ..ChartOptions::default()
+        };
+        let (x, (lo, hi)) = ranges(&chart, &options);
+        assert_eq!(x, (0.0, 2.0));
+        // The band's -3 and 5, padded by 4 % of their span.
+        assert!(lo <= -3.0 && hi >= 5.0, "{lo} {hi}");
+        let (_, (lo, hi)) = ranges(&chart, &ChartOptions::default());
+        assert!(lo > -3.0 && hi < 5.0, "without the fill: {lo} {hi}");
+    }
 
     #[test]
     fn titles_wrap_at_words() {

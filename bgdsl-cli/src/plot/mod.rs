@@ -43,8 +43,8 @@ pub use axis::{format_tick, nice_ticks, Tick};
 pub use clip::polylines;
 pub use data::{cumulative_trapezoid, settled_range, wrap_angle, wrap_by_revolution, SettledRange};
 pub use line::{
-    draw_line_chart, draw_line_chart_with, draw_stacked_charts, ChartOptions, LineChart, Series,
-    SeriesStyle, PALETTE,
+    draw_line_chart, draw_line_chart_with, draw_stacked_charts, ChartOptions, Fill, LineChart,
+    Series, SeriesStyle, PALETTE,
 };
 pub use trajectory::{draw_trajectory_3d, Series3d, Trajectory3d};
 

@@ -38,6 +38,16 @@
 //!     #   values: [50, 100, 200] #   or a list of distinct finite `values`
 //!   peaks: [Tc, F_O1]            #   outputs whose peak magnitude each run reports
 //!   window: {from: 4.0, to: 8.0} #   optional: s; default the second half of the span
+//! monte_carlo:                   # optional: a Monte Carlo study instead of one run
+//!   samples: 200                 #   the number of runs, >= 2
+//!   seed: 42                     #   any whole number >= 0; the same seed, the same draws
+//!   parameters:                  #   scalar parameters, each from one distribution:
+//!     m_s: {uniform: [200, 300]} #     uniform on [lo, hi), lo < hi
+//!     k_s: {normal: {mean: 2.0e4, sd: 2.0e3}}   # sd >= 0
+//!     c_s: {lognormal: {mu: 7.0, sigma: 0.2}}   # ln x is normal(mu, sigma)
+//!     # m_u: {csv: {file: masses.csv, column: m_u}}  # row i for sample i; the file
+//!                                #     is relative to the scenario, a header row first
+//!     # g: {values: [9.78, 9.81, 9.83]}            # or listed: sample i takes the i-th
 //! ```
 //!
 //! # Meaning
@@ -73,6 +83,21 @@
 //!   sweep writes no per-run results. A swept parameter cannot also be set (in
 //!   `parameters` or by `--set`): that value would be ignored, so it is an error.
 //!
+//! - **`monte_carlo`** runs `samples` runs with the listed parameters drawn (sample
+//!   `i` from its own random stream, fixed by `seed` and `i`:
+//!   [`study::distribution`](crate::study::distribution)), the others as set, and
+//!   writes `samples.csv` (`index`, the drawn values, then for each banded column
+//!   `peak_<c>` (the largest magnitude over the span) and `final_<c>` (the value at
+//!   the end)), `trajectories.csv` (`index`, `t`, the banded columns: every sample at
+//!   every time), `bands.csv` (`t`, then for each banded column its 5, 25, 50, 75 and
+//!   95 % quantiles over the samples, type 7: [`study::bands`](crate::study::bands))
+//!   and one band chart per column. The banded columns are those `output.record`
+//!   names, by default the model's outputs. A drawn parameter cannot also be set or
+//!   swept; every sample's parameters are checked physically before anything runs.
+//!   `run --shard K/N` (sweeps too) runs only the K-th of N blocks of samples (or sweep
+//!   points) into a shard folder, and `merge` joins the N folders into the files of the
+//!   one-process run, bit for bit (see `docs/shards.md`).
+//!
 //! Command-line flags override the file: `--set NAME=VALUE` a parameter, `--solver`,
 //! `--rtol`, `--atol`, `--step`, `--max-steps`, `--t-start`, `--t-end`, `--interval`
 //! (replacing `interval` or `count`), and `--no-plots` (`plots: none`); each is checked
@@ -97,6 +122,7 @@ mod phase;
 mod resolve;
 mod schema;
 mod solver;
+mod study;
 mod sweep;
 
 use std::collections::BTreeMap;
@@ -139,6 +165,9 @@ pub struct Scenario {
     /// A sweep over one or two parameters.
     #[serde(default)]
     pub sweep: Option<SweepSpec>,
+    /// A Monte Carlo study.
+    #[serde(default)]
+    pub monte_carlo: Option<MonteCarloSpec>,
     /// What was wrong with the file's shape (unknown keys, wrong types), found while
     /// reading it; the entries at fault were left out. [`resolve`] reports these with
     /// its own.
@@ -215,6 +244,18 @@ pub struct AxisSpec {
     pub to: Option<f64>,
     /// and the number of values, evenly spaced.
     pub steps: Option<usize>,
+}
+
+/// `monte_carlo:` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MonteCarloSpec {
+    /// The number of samples (runs).
+    pub samples: usize,
+    /// The seed of every sample's random stream.
+    pub seed: u64,
+    /// Each drawn parameter's distribution, by name (checked by the resolver).
+    pub parameters: serde_yaml::Mapping,
 }
 
 /// `sweep.window:`.

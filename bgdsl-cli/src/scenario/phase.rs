@@ -145,8 +145,8 @@ pub(super) fn refuse_in_sweep(
     places: &Places<'_>,
     d: &mut Diagnostics,
 ) {
-    const WHY: &str = "a sweep draws no phase portraits (it keeps no run's samples); run \
-                       one point without `sweep` to draw them";
+    const WHY: &str = "a sweep or a Monte Carlo study draws no phase portraits (it keeps no \
+                       run's samples); run one point alone to draw them";
     if let Some(Value::Mapping(map)) = &scenario.plots {
         if map.contains_key("phase") {
             d.push(places.keys(&["plots", "phase"]), WHY);

@@ -11,11 +11,12 @@ use serde_yaml::Mapping;
 
 use super::locate::KeyPath;
 use super::solver::{pick, solver};
+use super::study::study;
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
 use crate::catalog::{
     self, format_number, format_value, parse_value, resolve_columns, set_parameter, Catalogue,
-    Column, Entry, Plots, RunPlan, SweepPlan,
+    Column, Entry, Plots, RunPlan, StudyPlan, SweepPlan,
 };
 use crate::provenance::{folder, Context, Program, Sampling};
 
@@ -64,6 +65,8 @@ pub enum Job {
     Run(RunPlan),
     /// A sweep of runs.
     Sweep(SweepPlan),
+    /// A Monte Carlo study.
+    Study(StudyPlan),
 }
 
 /// A validated scenario: the model and the job.
@@ -148,11 +151,17 @@ fn resolve_into(
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
     let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
-    if scenario.sweep.is_some() {
+    let study = scenario.sweep.is_some() || scenario.monte_carlo.is_some();
+    if study {
         super::phase::refuse_in_sweep(scenario, &overrides.phase, &places, d);
-    }
-    if scenario.sweep.is_none() {
+    } else {
         figures_draw_something(entry, scenario, &record, &plots, &places, d);
+    }
+    if scenario.sweep.is_some() && scenario.monte_carlo.is_some() {
+        d.push(
+            places.keys(&["monte_carlo"]),
+            "a scenario is a sweep or a Monte Carlo study, not both; split it into two files",
+        );
     }
     // `figures: none` beside phase portraits: those only (an empty choice of figures).
     let plots = match plots {
@@ -186,6 +195,16 @@ fn resolve_into(
         title: title.clone(),
         context: context.clone(),
     };
+    if let (Some(spec), Some(times)) = (&scenario.monte_carlo, &times) {
+        let plan = base(times.clone(), solver.unwrap_or(entry.solver));
+        return match study(entry, spec, plan, &origins, &places, d) {
+            Some(study) if d.is_empty() => Some(Plan {
+                entry,
+                job: Job::Study(study),
+            }),
+            _ => None,
+        };
+    }
     let job = match (&scenario.sweep, times, solver) {
         (None, Some(times), Some(solver)) if d.is_empty() => Job::Run(base(times, solver)),
         (Some(spec), Some(times), solver) => {

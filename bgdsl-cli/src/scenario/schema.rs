@@ -95,6 +95,12 @@ const SWEEP: &[Field] = &[
     optional("window", Kind::Section(WINDOW)),
 ];
 
+const MONTE_CARLO: &[Field] = &[
+    required("samples", Kind::Count),
+    required("seed", Kind::Count),
+    required("parameters", Kind::Mapping),
+];
+
 /// The keys of a scenario file.
 const SCENARIO: &[Field] = &[
     required("model", Kind::Text),
@@ -106,6 +112,7 @@ const SCENARIO: &[Field] = &[
     optional("output", Kind::Section(OUTPUT)),
     optional("plots", Kind::Any),
     optional("sweep", Kind::Section(SWEEP)),
+    optional("monte_carlo", Kind::Section(MONTE_CARLO)),
 ];
 
 /// Checks the whole document `root` against the scenario's keys, reporting into `d`
