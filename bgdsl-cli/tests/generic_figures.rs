@@ -86,7 +86,7 @@ fn plan(name: &str, plots: Option<&str>, out: &Path) -> RunPlan {
         .job
     {
         Job::Run(run) => run,
-        Job::Sweep(_) => panic!("a sweep"),
+        Job::Sweep(_) | Job::Study(_) => panic!("a sweep or a study"),
     }
 }
 

@@ -151,8 +151,8 @@ fn resolve_into(
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
     let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
-    let study = scenario.sweep.is_some() || scenario.monte_carlo.is_some();
-    if study {
+    let is_study = scenario.sweep.is_some() || scenario.monte_carlo.is_some();
+    if is_study {
         super::phase::refuse_in_sweep(scenario, &overrides.phase, &places, d);
     } else {
         figures_draw_something(entry, scenario, &record, &plots, &places, d);
