@@ -82,7 +82,7 @@ pub enum Command {
         outputs: bool,
     },
     /// Run a model with its defaults, or a scenario file.
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Export the model as an FMI 2.0 FMU (Model Exchange and Co-Simulation).
     ///
     /// The FMU carries the FMI shared library of the program's models
