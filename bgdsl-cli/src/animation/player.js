@@ -224,7 +224,13 @@
       timeOut.textContent = "t = " + times[k].toFixed(3) + " s";
       if (scene.angle) {
         var deg = scene.angle.deg[k];
-        angleOut.textContent = scene.angle.label + " = " + (deg === null ? "–" : deg.toFixed(1)) + "°";
+        // The model's angle is unwrapped (it counts turns); shown within one turn, with the turn.
+        var text = "–";
+        if (deg !== null) {
+          var turn = Math.floor(deg / 360);
+          text = (deg - 360 * turn).toFixed(1) + "° (turn " + turn + ")";
+        }
+        angleOut.textContent = scene.angle.label + " = " + text;
       }
       var rect = canvas.getBoundingClientRect();
       root.dataset.frame = String(k);
