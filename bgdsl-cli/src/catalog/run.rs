@@ -431,6 +431,9 @@ where
     } else {
         draw(entry, plan, &extra_runs, table.as_ref(), dir)
     };
+    // The page's sections (the causal graph runs `dot`) belong to the drawing: an
+    // interrupt while they are made marks the run partial like one while drawing.
+    let sections: Vec<String> = extra_runs.iter().flat_map(|x| x.sections()).collect();
     let (drawn, figures_error) = settle_drawing(drawing, &mut failure, observer)?;
     let partial = failure.is_some();
     let plotting = plotting.elapsed();
@@ -479,7 +482,6 @@ where
     }
     summary.push_str(&super::report_line(&target.join(INDEX_FILE)));
     provenance::write_run(dir, entry, plan, &results_paths, failure.as_deref())?;
-    let sections: Vec<String> = extra_runs.iter().flat_map(|x| x.sections()).collect();
     figures::index(dir, &plan.title, &summary, &drawn, &sections)?;
     let target = folder.commit(partial)?;
     let in_target = |path: &PathBuf| target.join(path.file_name().unwrap_or_default());
