@@ -138,8 +138,8 @@ fn scalar(
     found.into_iter().next()
 }
 
-/// A sweep draws no phase portraits: each one asked for is an error.
-pub(super) fn refuse_in_sweep(
+/// A sweep or a Monte Carlo study draws no phase portraits: each one asked for is an error.
+pub(super) fn refuse_in_study(
     scenario: &Scenario,
     flags: &[String],
     places: &Places<'_>,

@@ -153,7 +153,7 @@ fn resolve_into(
     let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
     let is_study = scenario.sweep.is_some() || scenario.monte_carlo.is_some();
     if is_study {
-        super::phase::refuse_in_sweep(scenario, &overrides.phase, &places, d);
+        super::phase::refuse_in_study(scenario, &overrides.phase, &places, d);
     } else {
         figures_draw_something(entry, scenario, &record, &plots, &places, d);
     }
