@@ -47,7 +47,7 @@
 use std::path::{Path, PathBuf};
 
 use bgdsl_fmi_core::{ModelDescription, ModelEntry};
-use models::catalog::{Catalogued, Checks};
+use models::catalog::Catalogued;
 use models::dc_servo::DcServo;
 use models::hybrid::{
     BeltFriction, BouncingBall, ClutchEngagement, EndStop, HalfWaveRectifier, HalfWaveRectifierExp,
@@ -92,16 +92,7 @@ const fn entry<M: Catalogued>(identifier: &'static str) -> ModelEntry {
 ///
 /// The values break one of the model's rules.
 pub fn catalogue_check<M: Catalogued>(values: &[f64]) -> Result<(), String> {
-    let mut model = M::default();
-    model.set_parameter_values(values);
-    let mut checks = Checks::new(M::PARAMETERS);
-    M::check_params(model.params(), &mut checks);
-    let problems = checks.into_problems();
-    if problems.is_empty() {
-        return Ok(());
-    }
-    let messages: Vec<String> = problems.iter().map(ToString::to_string).collect();
-    Err(messages.join("; "))
+    bgdsl_cli::fmi::check_values::<M>(values, M::check_params)
 }
 
 bgdsl_fmi_core::export_fmi2!(MODELS);
