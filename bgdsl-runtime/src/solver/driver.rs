@@ -8,7 +8,7 @@ use super::events::{Events, HeapEvents};
 use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
 use super::stats::Stats;
-use super::stiff::{Radau5, Rosenbrock, StiffIntegrator, StiffKernel, RODAS4};
+use super::stiff::{Radau5, Rodas4, Rodas5P, Rosenbrock, StiffIntegrator, StiffKernel};
 use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
 use crate::error::{SampleTimeProblem, SolverError};
@@ -247,10 +247,17 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
             Solver::Rodas4(o) => {
                 let method = |structure: &_| {
-                    Rosenbrock::new(&RODAS4, n, structure, o.rtol, o.atol, o.safety)
+                    Rosenbrock::<Rodas4>::new(n, structure, o.rtol, o.atol, o.safety)
                 };
                 let integrator = StiffIntegrator::new(model, method, o.common());
-                Kernel::Stiff(StiffKernel::Rosenbrock(Box::new(integrator)))
+                Kernel::Stiff(StiffKernel::Rodas4(Box::new(integrator)))
+            }
+            Solver::Rodas5P(o) => {
+                let method = |structure: &_| {
+                    Rosenbrock::<Rodas5P>::new(n, structure, o.rtol, o.atol, o.safety)
+                };
+                let integrator = StiffIntegrator::new(model, method, o.common());
+                Kernel::Stiff(StiffKernel::Rodas5P(Box::new(integrator)))
             }
         };
         Ok(Simulation {
@@ -402,7 +409,7 @@ impl<'m, M: Model> Simulation<'m, M> {
                 .run_fixed(o, samples, recorder)
                 .map_err(|cause| self.diagnose_fixed(cause, o.step, t0, x0))?,
             Solver::DormandPrince(o) => self.run_adaptive(&o, samples, recorder)?,
-            Solver::Radau5(_) | Solver::Rodas4(_) => self.run_stiff(samples, recorder)?,
+            Solver::Radau5(_) | Solver::Rodas4(_) | Solver::Rodas5P(_) => self.run_stiff(samples, recorder)?,
         }
         Ok(self.stats)
     }

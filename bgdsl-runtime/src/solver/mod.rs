@@ -43,4 +43,4 @@ pub use options::Solver;
 pub use options::{DormandPrinceOptions, FixedStep};
 pub use stats::Stats;
 #[cfg(feature = "std")]
-pub use stiff::{Radau5Options, Rodas4Options};
+pub use stiff::{Radau5Options, Rodas4Options, Rodas5POptions, RosenbrockOptions};

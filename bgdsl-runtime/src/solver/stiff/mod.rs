@@ -1,5 +1,6 @@
 //! Implicit methods for stiff models: Radau IIA of order 5 ([`radau`]) and the
-//! Rosenbrock method Rodas4 ([`rosenbrock`]), on one stepping loop ([`StiffIntegrator`]).
+//! Rosenbrock methods Rodas4 and Rodas5P ([`rosenbrock`]), on one stepping loop
+//! ([`StiffIntegrator`]).
 //!
 //! The loop owns what the methods share: the Jacobian (exact, by
 //! [`JacobianEvaluator`], or the model's own), `f(t, x)` at the current point, the
@@ -28,9 +29,9 @@ use crate::linalg::{Factored, Singular, Structure};
 use crate::model::{Model, ModelError};
 
 pub(crate) use options::Common;
-pub use options::{Radau5Options, Rodas4Options};
+pub use options::{Radau5Options, Rodas4Options, Rodas5POptions, RosenbrockOptions};
 pub(crate) use radau::Radau5;
-pub(crate) use rosenbrock::{Rosenbrock, RODAS4};
+pub(crate) use rosenbrock::{Rodas4, Rodas5P, Rosenbrock};
 
 /// The result of one step attempt.
 #[derive(Clone, Debug, PartialEq)]
@@ -580,7 +581,8 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
 #[derive(Debug)]
 pub(crate) enum StiffKernel {
     Radau5(Box<StiffIntegrator<Radau5>>),
-    Rosenbrock(Box<StiffIntegrator<Rosenbrock>>),
+    Rodas4(Box<StiffIntegrator<Rosenbrock<Rodas4>>>),
+    Rodas5P(Box<StiffIntegrator<Rosenbrock<Rodas5P>>>),
 }
 
 impl StiffKernel {
@@ -594,7 +596,8 @@ impl StiffKernel {
     ) -> Result<(), SolverError> {
         match self {
             StiffKernel::Radau5(k) => k.start(model, t, x, t_end, stats),
-            StiffKernel::Rosenbrock(k) => k.start(model, t, x, t_end, stats),
+            StiffKernel::Rodas4(k) => k.start(model, t, x, t_end, stats),
+            StiffKernel::Rodas5P(k) => k.start(model, t, x, t_end, stats),
         }
     }
 
@@ -608,7 +611,8 @@ impl StiffKernel {
     ) -> Result<(), SolverError> {
         match self {
             StiffKernel::Radau5(k) => k.restart(model, t, x, t_end, stats),
-            StiffKernel::Rosenbrock(k) => k.restart(model, t, x, t_end, stats),
+            StiffKernel::Rodas4(k) => k.restart(model, t, x, t_end, stats),
+            StiffKernel::Rodas5P(k) => k.restart(model, t, x, t_end, stats),
         }
     }
 
@@ -622,14 +626,16 @@ impl StiffKernel {
     ) -> Result<(), SolverError> {
         match self {
             StiffKernel::Radau5(k) => k.step(model, t, x, t_end, stats),
-            StiffKernel::Rosenbrock(k) => k.step(model, t, x, t_end, stats),
+            StiffKernel::Rodas4(k) => k.step(model, t, x, t_end, stats),
+            StiffKernel::Rodas5P(k) => k.step(model, t, x, t_end, stats),
         }
     }
 
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
         match self {
             StiffKernel::Radau5(k) => k.interpolate(t, out),
-            StiffKernel::Rosenbrock(k) => k.interpolate(t, out),
+            StiffKernel::Rodas4(k) => k.interpolate(t, out),
+            StiffKernel::Rodas5P(k) => k.interpolate(t, out),
         }
     }
 }

@@ -166,25 +166,28 @@ impl Radau5Options {
     }
 }
 
-/// Settings of [`Solver::Rodas4`](crate::Solver::Rodas4), the stiffly accurate
-/// Rosenbrock method of order 4 with an embedded method of order 3 (Hairer & Wanner's
-/// RODAS).
+/// Settings of the Rosenbrock methods: [`Solver::Rodas4`](crate::Solver::Rodas4), the
+/// stiffly accurate method of order 4 with an embedded method of order 3 (Hairer &
+/// Wanner's RODAS), and [`Solver::Rodas5P`](crate::Solver::Rodas5P), of order 5 with
+/// an embedded method of order 4 (Steinebach 2023).
 ///
 /// A step is accepted when its error estimate, in the norm
 /// `sqrt(mean((err_i / (atol + rtol * max(|x_i|, |x_new_i|)))^2))`, is at most 1. The
-/// step size follows `h_new = h / clamp(err^(1/4) / safety, 1 / max_factor,
-/// 1 / min_factor)`, with Gustafsson's predictive controller when `predictive`. A
-/// Rosenbrock method needs the exact Jacobian at the start of every step: it is
-/// computed once per accepted step (and kept through rejections), with one LU per
-/// attempted step.
+/// step size follows `h_new = h / clamp(err^(1/(q+1)) / safety, 1 / max_factor,
+/// 1 / min_factor)` for an estimate of order `q` (3 for Rodas4, 4 for Rodas5P), with
+/// Gustafsson's predictive controller when `predictive`. A Rosenbrock method needs the
+/// exact Jacobian at the start of every step: it is computed once per accepted step
+/// (and kept through rejections), with one LU per attempted step.
 ///
 /// ```
-/// use bgdsl_runtime::{Rodas4Options, Solver};
+/// use bgdsl_runtime::{Rodas4Options, Rodas5POptions, Solver};
 /// let solver = Solver::Rodas4(Rodas4Options { rtol: 1e-5, ..Default::default() });
 /// assert_eq!(solver.name(), "rodas4");
+/// let solver = Solver::Rodas5P(Rodas5POptions { rtol: 1e-8, ..Default::default() });
+/// assert_eq!(solver.name(), "rodas5p");
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rodas4Options {
+pub struct RosenbrockOptions {
     /// Relative tolerance (>= 0, < 1; default `1e-6`).
     pub rtol: f64,
     /// Absolute tolerance (> 0; default `1e-9`).
@@ -212,9 +215,9 @@ pub struct Rodas4Options {
     pub predictive: bool,
 }
 
-impl Default for Rodas4Options {
+impl Default for RosenbrockOptions {
     fn default() -> Self {
-        Rodas4Options {
+        RosenbrockOptions {
             rtol: 1e-6,
             atol: 1e-9,
             initial_step: None,
@@ -229,7 +232,7 @@ impl Default for Rodas4Options {
     }
 }
 
-impl Rodas4Options {
+impl RosenbrockOptions {
     pub(crate) fn validate(&self) -> Result<(), SolverError> {
         check(
             "rtol",
@@ -257,6 +260,12 @@ impl Rodas4Options {
         }
     }
 }
+
+/// Settings of [`Solver::Rodas4`](crate::Solver::Rodas4) (see [`RosenbrockOptions`]).
+pub type Rodas4Options = RosenbrockOptions;
+
+/// Settings of [`Solver::Rodas5P`](crate::Solver::Rodas5P) (see [`RosenbrockOptions`]).
+pub type Rodas5POptions = RosenbrockOptions;
 
 /// The settings the shared stepping loop reads.
 #[derive(Clone, Copy, Debug)]
