@@ -27,6 +27,7 @@
 //! tableau.
 
 use super::{eval, rms, Attempt, ImplicitMethod, LuCount, Radau5Options, StepStart};
+use crate::jacobian::Jacobian;
 use crate::linalg::{RadauMatrices, Singular, Structure};
 use crate::model::Model;
 
@@ -267,7 +268,7 @@ impl ImplicitMethod for Radau5 {
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {

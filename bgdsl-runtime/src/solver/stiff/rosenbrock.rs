@@ -18,6 +18,7 @@
 use core::marker::PhantomData;
 
 use super::{eval, rms, Attempt, ImplicitMethod, LuCount, StepStart};
+use crate::jacobian::Jacobian;
 use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
 
@@ -340,7 +341,7 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {
