@@ -17,10 +17,11 @@
 
 use core::marker::PhantomData;
 
-use super::{eval, rms, Attempt, ImplicitMethod, LuCount, StepStart};
+use super::{eval, Attempt, ImplicitMethod, LuCount, StepStart};
 use crate::jacobian::Jacobian;
 use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
+use crate::solver::weights::{rms, scaled, Tolerances};
 
 /// A Rosenbrock method with `s` stages in the `u` variables above.
 #[derive(Debug)]
@@ -281,8 +282,7 @@ pub(crate) const RODAS5P: RosenbrockTableau = RosenbrockTableau {
 pub(crate) struct Rosenbrock<S> {
     tab: &'static RosenbrockTableau,
     scheme: PhantomData<S>,
-    rtol: f64,
-    atol: f64,
+    tol: Tolerances,
     safety: f64,
     /// `1/(h γ) I - J`, factored.
     lu: RealMatrix,
@@ -314,8 +314,7 @@ impl<S: Scheme> Rosenbrock<S> {
         Rosenbrock {
             tab,
             scheme: PhantomData,
-            rtol,
-            atol,
+            tol: Tolerances::uniform(rtol, atol, n),
             safety,
             lu: RealMatrix::new(structure),
             u: (0..tab.alpha.len()).map(|_| v()).collect(),
@@ -333,6 +332,10 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
     const NEEDS_DFDT: bool = true;
     /// `1 / (q + 1)` for an embedded method of order `q`.
     const ERROR_EXPONENT: f64 = 1.0 / (S::TABLEAU.estimate_order as f64 + 1.0);
+
+    fn set_tolerances(&mut self, tol: &Tolerances) {
+        self.tol.clone_from(tol);
+    }
 
     fn restart(&mut self) {
         self.lu.restart();
@@ -404,13 +407,13 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
                 *xn += m * uj;
             }
         }
-        let (rtol, atol) = (self.rtol, self.atol);
+        let w = self.tol.weights();
         let u = &self.u;
         let x_new = &self.x_new;
         let err = rms(
             (0..n).map(|i| {
                 let e: f64 = tab.e.iter().zip(u).map(|(w, uj)| w * uj[i]).sum();
-                e / (atol + rtol * x[i].abs().max(x_new[i].abs()))
+                scaled(e, w.over(i, x[i], x_new[i]))
             }),
             n,
         );
