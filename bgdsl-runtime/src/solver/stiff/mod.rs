@@ -22,6 +22,7 @@ use super::control::min_step;
 pub(crate) use super::explicit::eval;
 use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
+use super::weights::{scaled, Tolerances};
 use crate::error::SolverError;
 use crate::jacobian::JacobianEvaluator;
 use crate::linalg::{Factored, Singular, Structure};
@@ -83,6 +84,10 @@ pub(crate) trait ImplicitMethod {
     /// The exponent `1 / (q + 1)` of the step-size controller for an error estimate of
     /// order `q`.
     const ERROR_EXPONENT: f64;
+
+    /// Sets the tolerances the method's error norm (and Newton stopping test) is
+    /// measured in: the user's, which the method may transform (Radau5 does).
+    fn set_tolerances(&mut self, tol: &Tolerances);
 
     /// Forgets the previous steps: a new run starts.
     fn restart(&mut self);
@@ -148,6 +153,8 @@ const MAX_SINGULAR: usize = 5;
 pub(crate) struct StiffIntegrator<S> {
     method: S,
     settings: Common,
+    /// The user's tolerances (the method keeps its own, possibly transformed, copy).
+    tol: Tolerances,
     evaluator: JacobianEvaluator,
     /// The Jacobian, row-major.
     jac: Vec<f64>,
@@ -194,6 +201,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         StiffIntegrator {
             method: make(&structure),
             settings,
+            tol: Tolerances::uniform(settings.rtol, settings.atol, n),
             evaluator,
             jac: vec![0.0; n * n],
             dfdt: vec![0.0; if S::NEEDS_DFDT { n } else { 0 }],
@@ -535,11 +543,11 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         x: &[f64],
         n_rhs: &mut usize,
     ) -> Result<f64, NonFinite> {
-        let (rtol, atol) = (self.settings.rtol, self.settings.atol);
+        let w = self.tol.weights();
         let count = x.len().max(1) as f64;
         let norm = |v: &dyn Fn(usize) -> f64| {
             let sum: f64 = (0..x.len())
-                .map(|i| (v(i) / (atol + rtol * x[i].abs())).powi(2))
+                .map(|i| scaled(v(i), w.at(i, x[i])).powi(2))
                 .sum();
             (sum / count).sqrt()
         };
@@ -632,11 +640,4 @@ impl StiffKernel {
             StiffKernel::Rosenbrock(k) => k.interpolate(t, out),
         }
     }
-}
-
-/// The root-mean-square `sqrt(sum(v_i^2) / n)` of `n` values (already divided by
-/// their error weights).
-pub(crate) fn rms(v: impl Iterator<Item = f64>, n: usize) -> f64 {
-    let sum: f64 = v.map(|r| r * r).sum();
-    (sum / n.max(1) as f64).sqrt()
 }

@@ -26,9 +26,10 @@
 //! RADAU5, checked in this module's tests against `A^-1` computed from the Butcher
 //! tableau.
 
-use super::{eval, rms, Attempt, ImplicitMethod, LuCount, Radau5Options, StepStart};
+use super::{eval, Attempt, ImplicitMethod, LuCount, Radau5Options, StepStart};
 use crate::linalg::{RadauMatrices, Singular, Structure};
 use crate::model::Model;
+use crate::solver::weights::{rms, scaled, Tolerances};
 
 /// The transformation `T` (row-major) with `T^-1 A^-1 T` block diagonal. The published
 /// digits are kept as printed.
@@ -111,9 +112,10 @@ impl Constants {
 pub(crate) struct Radau5 {
     k: Constants,
     /// Transformed tolerances (see [`Radau5Options`]).
-    rtol: f64,
-    atol: f64,
+    tol: Tolerances,
     max_iterations: usize,
+    /// The Newton stopping tolerance the options set, if they set one.
+    newton_tol_option: Option<f64>,
     newton_tol: f64,
     /// The step-size controller's safety factor.
     safety: f64,
@@ -133,7 +135,7 @@ pub(crate) struct Radau5 {
     stage: Vec<f64>,
     err_rhs: Vec<f64>,
     err_v: Vec<f64>,
-    /// Error weights `atol' + rtol' |x_i|` of the current step.
+    /// Error weights `atol'_i + rtol' |x_i|` of the current step.
     scale: Vec<f64>,
     x_new: Vec<f64>,
     /// Newton-form coefficients of the last accepted step's collocation polynomial
@@ -153,18 +155,13 @@ impl Radau5 {
     /// The method for `n` states whose iteration matrices have `structure`, with
     /// settings `o` (already validated).
     pub fn new(n: usize, structure: &Structure, o: &Radau5Options) -> Self {
-        let rtol = 0.1 * o.rtol.powf(2.0 / 3.0);
-        let atol = rtol * (o.atol / o.rtol);
-        let newton_tol = o
-            .newton_tol
-            .unwrap_or_else(|| (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt())));
         let v = || vec![0.0; n];
-        Radau5 {
+        let mut method = Radau5 {
             k: Constants::new(),
-            rtol,
-            atol,
+            tol: Tolerances::uniform(o.rtol, o.atol, n),
             max_iterations: o.max_newton_iterations,
-            newton_tol,
+            newton_tol_option: o.newton_tol,
+            newton_tol: 0.0,
             safety: o.safety,
             reuse_below: o.reuse_jacobian_below,
             e: RadauMatrices::new(structure),
@@ -184,7 +181,9 @@ impl Radau5 {
             dense_h: 1.0,
             have_dense: false,
             faccon: 1.0,
-        }
+        };
+        method.set_tolerances(&Tolerances::uniform(o.rtol, o.atol, n));
+        method
     }
 
     /// Starting values of `Z` and `W` for a step of size `h`: zero on the first step,
@@ -234,7 +233,7 @@ impl Radau5 {
         }
         self.e.solve_real(&mut self.err_v);
         let scale = &self.scale;
-        let mut err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
+        let mut err = rms(self.err_v.iter().zip(scale).map(|(e, s)| scaled(*e, *s)), n).max(1e-10);
         if err >= 1.0 && (start.first || start.after_reject) {
             for i in 0..n {
                 self.stage[i] = start.x[i] + self.err_v[i];
@@ -246,7 +245,7 @@ impl Radau5 {
                     *e += r;
                 }
                 self.e.solve_real(&mut self.err_v);
-                err = rms(self.err_v.iter().zip(scale).map(|(e, s)| e / s), n).max(1e-10);
+                err = rms(self.err_v.iter().zip(scale).map(|(e, s)| scaled(*e, *s)), n).max(1e-10);
             }
         }
         err
@@ -257,6 +256,19 @@ impl ImplicitMethod for Radau5 {
     const NEEDS_DFDT: bool = false;
     /// The error estimate is `O(h^4)`.
     const ERROR_EXPONENT: f64 = 0.25;
+
+    /// RADAU5's transformation (see [`Radau5Options`]): `rtol' = 0.1 rtol^(2/3)`,
+    /// `atol'_i = rtol' atol_i / rtol`, and the Newton tolerance from `rtol'`.
+    fn set_tolerances(&mut self, tol: &Tolerances) {
+        let rtol = 0.1 * tol.rtol.powf(2.0 / 3.0);
+        self.tol.rtol = rtol;
+        for (a, user) in self.tol.atol.iter_mut().zip(&tol.atol) {
+            *a = rtol * (user / tol.rtol);
+        }
+        self.newton_tol = self
+            .newton_tol_option
+            .unwrap_or_else(|| (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt())));
+    }
 
     fn restart(&mut self) {
         self.have_dense = false;
@@ -289,9 +301,7 @@ impl ImplicitMethod for Radau5 {
     ) -> Attempt {
         let (t, h, x) = (start.t, start.h, start.x);
         let n = x.len();
-        for (s, xi) in self.scale.iter_mut().zip(x) {
-            *s = self.atol + self.rtol * xi.abs();
-        }
+        self.tol.weights().fill(x, &mut self.scale);
         self.starting_values(h);
         let nodes = [self.k.c1, self.k.c2, 1.0];
         let nit = self.max_iterations;
@@ -336,7 +346,14 @@ impl ImplicitMethod for Radau5 {
             let scale = &self.scale;
             let mut sum = 0.0;
             for i in 0..n {
-                sum += (r1[i] * r1[i] + r2[i] * r2[i] + r3[i] * r3[i]) / (scale[i] * scale[i]);
+                let (s, squares) = (scale[i], r1[i] * r1[i] + r2[i] * r2[i] + r3[i] * r3[i]);
+                sum += if s * s > 0.0 {
+                    squares / (s * s)
+                } else {
+                    // A zero weight, or one whose square underflows.
+                    let (a, b, c) = (scaled(r1[i], s), scaled(r2[i], s), scaled(r3[i], s));
+                    a * a + b * b + c * c
+                };
             }
             let dyno = (sum / (3 * n).max(1) as f64).sqrt();
             if !dyno.is_finite() {
