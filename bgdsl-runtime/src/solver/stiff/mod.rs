@@ -24,7 +24,7 @@ use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
 use super::weights::{scaled, Tolerances};
 use crate::error::SolverError;
-use crate::jacobian::JacobianEvaluator;
+use crate::jacobian::{Jacobian, JacobianEvaluator, SparsityPattern};
 use crate::linalg::{Factored, Singular, Structure};
 use crate::model::{Model, ModelError};
 
@@ -92,13 +92,14 @@ pub(crate) trait ImplicitMethod {
     /// Forgets the previous steps: a new run starts.
     fn restart(&mut self);
 
-    /// Factors the iteration matrices for step size `h` and Jacobian `jac` (row-major),
-    /// which may differ from the last call's only if `new_jacobian`; counts the LU
-    /// factorizations done in `count`.
+    /// Factors the iteration matrices for step size `h` and Jacobian `jac`, which may
+    /// differ from the last call's only if `new_jacobian` (its pattern may have changed
+    /// only then too: see [`Jacobian::generation`]); counts the LU factorizations done
+    /// in `count`.
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular>;
@@ -156,8 +157,8 @@ pub(crate) struct StiffIntegrator<S> {
     /// The user's tolerances (the method keeps its own, possibly transformed, copy).
     tol: Tolerances,
     evaluator: JacobianEvaluator,
-    /// The Jacobian, row-major.
-    jac: Vec<f64>,
+    /// The Jacobian.
+    jac: Jacobian,
     /// `∂f/∂t` (empty unless the method needs it).
     dfdt: Vec<f64>,
     /// `f(t, x)` at the current point.
@@ -203,7 +204,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             settings,
             tol: Tolerances::uniform(settings.rtol, settings.atol, n),
             evaluator,
-            jac: vec![0.0; n * n],
+            jac: Jacobian::new(SparsityPattern::dense(n).into()),
             dfdt: vec![0.0; if S::NEEDS_DFDT { n } else { 0 }],
             f0: vec![0.0; n],
             f_new: vec![0.0; n],
@@ -468,13 +469,13 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         let n = x.len();
         let derivatives = self
             .evaluator
-            .evaluate_numerical(model, t, x, &mut self.jac);
+            .evaluate_numerical(model, t, x, self.jac.values_mut());
         stats.n_jac_rhs += derivatives;
         stats.n_jac += 1;
         // The first non-finite entry, row by row. Differentiation writes only the
         // entries of a sparse pattern (the rest stay zero): only those are looked at.
         let pattern = self.evaluator.pattern();
-        let jac = &self.jac;
+        let jac = self.jac.values();
         let non_finite = if derivatives > 0 && !pattern.is_dense() {
             (0..n).find_map(|i| {
                 let j = pattern
@@ -495,7 +496,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 t,
                 state: name(k / n),
                 wrt: name(k % n),
-                value: self.jac[k],
+                value: jac[k],
             });
         }
         if S::NEEDS_DFDT {

@@ -27,6 +27,7 @@
 //! tableau.
 
 use super::{eval, Attempt, ImplicitMethod, LuCount, Radau5Options, StepStart};
+use crate::jacobian::Jacobian;
 use crate::linalg::{RadauMatrices, Singular, Structure};
 use crate::model::Model;
 use crate::solver::weights::{rms, scaled, Tolerances};
@@ -279,7 +280,7 @@ impl ImplicitMethod for Radau5 {
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {

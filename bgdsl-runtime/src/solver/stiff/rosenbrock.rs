@@ -15,6 +15,7 @@
 //! `u(θ) = (1 - θ) x + θ (x_new + (1 - θ) (sum d2_j u_j + θ sum d3_j u_j))`.
 
 use super::{eval, Attempt, ImplicitMethod, LuCount, StepStart};
+use crate::jacobian::Jacobian;
 use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
 use crate::solver::weights::{rms, scaled, Tolerances};
@@ -177,7 +178,7 @@ impl ImplicitMethod for Rosenbrock {
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {
