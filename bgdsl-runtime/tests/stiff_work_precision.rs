@@ -74,4 +74,6 @@ fn work_precision_on_the_bari_test_set() {
     table(&VanDerPol, 2.0, &VDP_REF, 1.0);
     table(&Hires, HIRES_T_END, &HIRES_REF, 1e-3);
     table(&Oregonator, 360.0, &OREGO_REF, 1.0);
+    table(&Pollution, 60.0, &POLLU_REF, 1.0);
+    table(&E5, E5_T_END, &E5_REF, 1e-20);
 }
