@@ -209,7 +209,7 @@ pub struct Output {
 /// The solver and the settings a scenario can give, as a scenario's `solver:`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SolverRecord {
-    /// `rk4`, `dopri5`, `dopri5-fixed`, `radau5` or `rodas4`.
+    /// `rk4`, `dopri5`, `dopri5-fixed`, `radau5`, `rodas4` or `rodas5p`.
     pub method: String,
     /// Relative tolerance (adaptive methods).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -259,7 +259,7 @@ impl SolverRecord {
                 record.max_steps = o.max_steps;
                 record.max_wall_time = o.max_wall_time.map(|d| d.as_secs_f64());
             }
-            Solver::Rodas4(o) => {
+            Solver::Rodas4(o) | Solver::Rodas5P(o) => {
                 (record.rtol, record.atol) = (Some(o.rtol), Some(o.atol));
                 record.max_step = finite(o.max_step);
                 record.max_steps = o.max_steps;

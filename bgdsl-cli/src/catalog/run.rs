@@ -649,7 +649,9 @@ impl fmt::Display for SolverSettings<'_> {
         let name = self.0.name();
         match self.0 {
             Solver::Radau5(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
-            Solver::Rodas4(o) => write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol),
+            Solver::Rodas4(o) | Solver::Rodas5P(o) => {
+                write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol)
+            }
             Solver::DormandPrince(o) => {
                 write!(f, "{name} (rtol {:e}, atol {:e})", o.rtol, o.atol)
             }

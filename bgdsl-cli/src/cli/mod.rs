@@ -144,7 +144,7 @@ pub struct RunArgs {
     /// overrides the scenario).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// The solver: rk4, dopri5, dopri5-fixed, radau5 or rodas4.
+    /// The solver: rk4, dopri5, dopri5-fixed, radau5, rodas4 or rodas5p.
     #[arg(long, value_name = "NAME")]
     pub solver: Option<String>,
     /// Relative tolerance of an adaptive solver, in [1e-14, 0.1].

@@ -13,13 +13,13 @@
 //!   start: 0.0
 //!   end: 5.0
 //! solver:                        # optional: default the model's (radau5)
-//!   method: radau5               #   rk4 | dopri5 | dopri5-fixed | radau5 | rodas4
+//!   method: radau5               #   rk4 | dopri5 | dopri5-fixed | radau5 | rodas4 | rodas5p
 //!   rtol: 1.0e-6                 #   adaptive methods: in [1e-14, 0.1]
 //!   atol: 1.0e-10                #   adaptive methods: > 0
 //!   step: 1.0e-4                 #   fixed-step methods only: s, > 0
 //!   max_step: 0.01               #   adaptive methods only: s, > 0
 //!   max_steps: 100000            #   > 0
-//!   max_wall_time: 60            #   radau5 and rodas4 only: s, > 0
+//!   max_wall_time: 60            #   the stiff solvers only: s, > 0
 //! output:                        # optional
 //!   interval: 0.001              #   s between samples (default: the model's), or
 //!   # count: 5001                #   a number of samples (>= 2), ends included

@@ -107,7 +107,7 @@ pub(super) fn solver(
             match &mut solver {
                 Solver::DormandPrince(o) => o.max_step = max_step,
                 Solver::Radau5(o) => o.max_step = max_step,
-                Solver::Rodas4(o) => o.max_step = max_step,
+                Solver::Rodas4(o) | Solver::Rodas5P(o) => o.max_step = max_step,
                 _ => d.push(
                     key("max_step"),
                     format!(
@@ -128,7 +128,7 @@ pub(super) fn solver(
                 Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => o.max_steps = max_steps,
                 Solver::DormandPrince(o) => o.max_steps = max_steps,
                 Solver::Radau5(o) => o.max_steps = max_steps,
-                Solver::Rodas4(o) => o.max_steps = max_steps,
+                Solver::Rodas4(o) | Solver::Rodas5P(o) => o.max_steps = max_steps,
                 _ => {}
             }
         }
@@ -146,10 +146,10 @@ pub(super) fn solver(
             let limit = Some(Duration::from_secs_f64(limit));
             match &mut solver {
                 Solver::Radau5(o) => o.max_wall_time = limit,
-                Solver::Rodas4(o) => o.max_wall_time = limit,
+                Solver::Rodas4(o) | Solver::Rodas5P(o) => o.max_wall_time = limit,
                 _ => d.push(
                     key("max_wall_time"),
-                    format!("max_wall_time applies only to the stiff solvers radau5 and rodas4, not {method}"),
+                    format!("max_wall_time applies only to the stiff solvers radau5, rodas4 and rodas5p, not {method}"),
                 ),
             }
         }
@@ -207,7 +207,7 @@ fn set_tolerance(solver: &mut Solver, rtol: Option<f64>, atol: Option<f64>) {
     let (r, a) = match solver {
         Solver::DormandPrince(o) => (&mut o.rtol, &mut o.atol),
         Solver::Radau5(o) => (&mut o.rtol, &mut o.atol),
-        Solver::Rodas4(o) => (&mut o.rtol, &mut o.atol),
+        Solver::Rodas4(o) | Solver::Rodas5P(o) => (&mut o.rtol, &mut o.atol),
         _ => return,
     };
     if let Some(rtol) = rtol {

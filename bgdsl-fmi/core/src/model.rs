@@ -229,6 +229,10 @@ fn with_tolerance(solver: Solver, rtol: f64) -> Solver {
             o.rtol = rtol;
             Solver::Rodas4(o)
         }
+        Solver::Rodas5P(mut o) => {
+            o.rtol = rtol;
+            Solver::Rodas5P(o)
+        }
         other => other,
     }
 }

@@ -1,0 +1,188 @@
+//! The stiff methods side by side: Rodas5P's convergence order, its accuracy on the
+//! Bari test set (see `stiff_common` for the problems and the sources of their
+//! reference values), the linear invariant of E5, and (ignored, run in release) the
+//! work-precision study behind `docs/solvers.md`:
+//!
+//! ```sh
+//! nice -n 10 cargo test --release -p bgdsl-runtime --test stiff_methods -- --ignored --nocapture
+//! ```
+
+mod stiff_common;
+
+use std::time::{Duration, Instant};
+
+use bgdsl_runtime::{
+    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver, Stats,
+    Trajectory,
+};
+use stiff_common::*;
+
+/// The stiff methods at tolerances `rtol`, `atol`.
+fn methods(rtol: f64, atol: f64) -> [Solver; 3] {
+    [
+        Solver::Radau5(Radau5Options {
+            rtol,
+            atol,
+            ..Default::default()
+        }),
+        Solver::Rodas4(Rodas4Options {
+            rtol,
+            atol,
+            ..Default::default()
+        }),
+        Solver::Rodas5P(Rodas5POptions {
+            rtol,
+            atol,
+            ..Default::default()
+        }),
+    ]
+}
+
+/// Van der Pol as [`VanDerPol`] with `ε = 1 / μ²` chosen: `μ = 1e6` gives `ε = 1e-12`.
+struct StiffVanDerPol(f64);
+
+impl Model for StiffVanDerPol {
+    type Params = ();
+    const NAME: &'static str = "van_der_pol_mu_1e6";
+    const STATE_NAMES: &'static [&'static str] = &["y1", "y2"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[2.0, 0.0]);
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, y: &[T], dy: &mut [T]) {
+        let one = T::from_f64(1.0);
+        dy[0] = y[1];
+        dy[1] = ((one - y[0] * y[0]) * y[1] - y[0]) / T::from_f64(self.0);
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
+/// `|y2 - y3 - y4| / |y2|` at each of the sample times (`y2 != 0`), largest.
+fn e5_invariant(traj: &Trajectory) -> f64 {
+    (0..traj.len())
+        .filter_map(|k| {
+            let y: Vec<f64> = (0..4).map(|i| traj.state(k, i).unwrap()).collect();
+            (y[1] != 0.0).then(|| ((y[1] - y[2] - y[3]) / y[1]).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Sample times `10^(k/2)`, `k = 0..=26`, on E5's `[0, 1e13]`.
+fn e5_times() -> Vec<f64> {
+    (0..=26).map(|k| 10f64.powf(0.5 * k as f64)).collect()
+}
+
+/// One row of the study: counters, best wall time of `repeats`, digits.
+fn row<M: Model>(model: &M, solver: Solver, t_end: f64, reference: &[f64], repeats: usize) {
+    let mut x0 = vec![0.0; M::N_STATES];
+    model.initial_state(&mut x0);
+    let mut sim = Simulation::new(model, solver).unwrap();
+    let mut best = Duration::MAX;
+    let mut outcome = Ok(Stats::default());
+    for _ in 0..repeats {
+        let started = Instant::now();
+        outcome = sim.run(0.0, &x0, &[t_end], &mut ());
+        best = best.min(started.elapsed());
+    }
+    let rtol = match solver {
+        Solver::Radau5(o) => o.rtol,
+        Solver::Rodas4(o) | Solver::Rodas5P(o) => o.rtol,
+        _ => f64::NAN,
+    };
+    match outcome {
+        Ok(s) => {
+            // Components the reference has below 1e-100 (E5's `y1` near 1e-291 and `y4`)
+            // are left out of the relative error.
+            let err = sim
+                .state()
+                .iter()
+                .zip(reference)
+                .filter(|(_, r)| r.abs() > 1e-100)
+                .map(|(x, r)| ((x - r) / r).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "{:<8} {:>6.0e} {:>6} {:>4} {:>7} {:>6} {:>6} {:>9.0} {:>9.2e} {:>6.1}",
+                solver.name(),
+                rtol,
+                s.accepted,
+                s.rejected,
+                s.n_rhs + s.n_jac_rhs,
+                s.n_jac,
+                s.n_lu,
+                best.as_secs_f64() * 1e6,
+                err,
+                -err.log10()
+            );
+        }
+        Err(e) => println!("{:<8} {:>6.0e} failed: {e}", solver.name(), rtol),
+    }
+}
+
+fn header(name: &str) {
+    println!("\n{name}");
+    println!(
+        "{:<8} {:>6} {:>6} {:>4} {:>7} {:>6} {:>6} {:>9} {:>9} {:>6}",
+        "method", "rtol", "steps", "rej", "f evals", "jac", "lu", "wall µs", "rel.err", "digits"
+    );
+}
+
+fn table<M: Model>(model: &M, t_end: f64, reference: &[f64], atol_per_rtol: f64) {
+    header(&format!("{} (atol = {atol_per_rtol:e} rtol)", M::NAME));
+    for k in 3..=10 {
+        let rtol = 10f64.powi(-k);
+        for solver in methods(rtol, atol_per_rtol * rtol) {
+            row(model, solver, t_end, reference, 3);
+        }
+    }
+}
+
+#[test]
+#[ignore = "prints the work-precision study; run in release mode"]
+fn work_precision_of_the_stiff_methods() {
+    table(&Robertson, 1e11, &ROBERTSON_REF, 1e-8);
+    table(&VanDerPol, 2.0, &VDP_REF, 1.0);
+    table(&Hires, HIRES_T_END, &HIRES_REF, 1e-3);
+    table(&Oregonator, 360.0, &OREGO_REF, 1.0);
+    table(&Pollution, 60.0, &POLLU_REF, 1.0);
+    table(&E5, E5_T_END, &E5_REF, 1e-24 / 1e-6);
+    header("oregonator, tight (atol = rtol)");
+    for rtol in [1e-11, 1e-12, 1e-13] {
+        for solver in methods(rtol, rtol) {
+            row(&Oregonator, solver, 360.0, &OREGO_REF, 1);
+        }
+    }
+    let vdp = StiffVanDerPol(1e-12);
+    let tight = Solver::Radau5(Radau5Options {
+        rtol: 1e-13,
+        atol: 1e-13,
+        max_steps: 1_000_000,
+        ..Default::default()
+    });
+    let (reference, _) = solve(&vdp, tight, 2.0);
+    header("van der pol, mu = 1e6 to t = 2 (reference: radau5 at rtol = atol = 1e-13)");
+    for rtol in [1e-6, 1e-8, 1e-10] {
+        for solver in methods(rtol, rtol) {
+            row(&vdp, solver, 2.0, &reference, 1);
+        }
+    }
+    println!("\nE5: largest |y2 - y3 - y4| / |y2| at t = 10^(k/2), atol 1e-24");
+    for rtol in [1e-4, 1e-6, 1e-8, 1e-10] {
+        for solver in methods(rtol, 1e-24) {
+            let mut sim = Simulation::new(&E5, solver).unwrap();
+            let times = e5_times();
+            let mut traj = Trajectory::for_model::<E5>(times.len());
+            let mut x0 = [0.0; 4];
+            E5.initial_state(&mut x0);
+            let r = sim.run(0.0, &x0, &times, &mut traj);
+            println!(
+                "{:<8} {rtol:>6.0e} {:>9.2e} {}",
+                solver.name(),
+                e5_invariant(&traj),
+                if r.is_ok() { "" } else { "failed" }
+            );
+        }
+    }
+}
