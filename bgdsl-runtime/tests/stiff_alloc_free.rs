@@ -13,7 +13,9 @@ mod pairs;
 
 use std::time::Duration;
 
-use bgdsl_runtime::{Model, Radau5Options, Rodas4Options, Scalar, Simulation, Solver, Trajectory};
+use bgdsl_runtime::{
+    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver, Trajectory,
+};
 use pairs::Pairs;
 use stiff_common::{Hires, Oregonator};
 
@@ -95,7 +97,13 @@ fn stiff_stepping_allocates_nothing_after_set_up() {
         max_wall_time: Some(Duration::from_secs(60)),
         ..Default::default()
     });
-    for solver in [radau, rodas] {
+    let rodas5p = Solver::Rodas5P(Rodas5POptions {
+        rtol: 1e-6,
+        atol: 1e-9,
+        max_wall_time: Some(Duration::from_secs(60)),
+        ..Default::default()
+    });
+    for solver in [radau, rodas, rodas5p] {
         // Many steps, Jacobians, LUs (including rejections); most samples inside steps.
         let steps = count_runs(&Oregonator, solver, 360.0, 3_001);
         assert!(steps >= 500, "{}: {steps} steps", solver.name());
