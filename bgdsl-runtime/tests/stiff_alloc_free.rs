@@ -103,7 +103,12 @@ fn stiff_stepping_allocates_nothing_after_set_up() {
         max_wall_time: Some(Duration::from_secs(60)),
         ..Default::default()
     });
-    for solver in [radau, rodas, rodas5p] {
+    // Refined stages: one compensated residual and one more solve per stage.
+    let refined = Solver::Rodas5P(Rodas5POptions {
+        refine_stages: true,
+        ..Rodas5POptions::default()
+    });
+    for solver in [radau, rodas, rodas5p, refined] {
         // Many steps, Jacobians, LUs (including rejections); most samples inside steps.
         let steps = count_runs(&Oregonator, solver, 360.0, 3_001);
         assert!(steps >= 500, "{}: {steps} steps", solver.name());

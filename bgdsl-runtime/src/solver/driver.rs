@@ -250,14 +250,14 @@ impl<'m, M: Model> Simulation<'m, M> {
             }
             Solver::Rodas4(o) => {
                 let method = |structure: &_| {
-                    Rosenbrock::<Rodas4>::new(n, structure, o.rtol, o.atol, o.safety)
+                    Rosenbrock::<Rodas4>::new(n, structure, &o)
                 };
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Rodas4(Box::new(integrator)))
             }
             Solver::Rodas5P(o) => {
                 let method = |structure: &_| {
-                    Rosenbrock::<Rodas5P>::new(n, structure, o.rtol, o.atol, o.safety)
+                    Rosenbrock::<Rodas5P>::new(n, structure, &o)
                 };
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Rodas5P(Box::new(integrator)))

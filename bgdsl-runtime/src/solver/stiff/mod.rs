@@ -71,6 +71,8 @@ pub(crate) struct StepStart<'a> {
     pub f0: &'a [f64],
     /// `∂f/∂t (t, x)` (only for methods with [`ImplicitMethod::NEEDS_DFDT`]).
     pub dfdt: &'a [f64],
+    /// The Jacobian the iteration matrices were last factored from.
+    pub jac: &'a Jacobian,
     /// No step has been accepted yet in this run.
     pub first: bool,
     /// The previous attempt was rejected.
@@ -349,6 +351,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 h,
                 f0: &self.f0,
                 dfdt: &self.dfdt,
+                jac: &self.jac,
                 first: self.first,
                 after_reject: self.last_rejected,
             };

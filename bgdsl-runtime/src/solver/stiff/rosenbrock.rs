@@ -17,7 +17,7 @@
 
 use core::marker::PhantomData;
 
-use super::{eval, Attempt, ImplicitMethod, LuCount, StepStart};
+use super::{eval, Attempt, ImplicitMethod, LuCount, RosenbrockOptions, StepStart};
 use crate::jacobian::Jacobian;
 use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
@@ -297,20 +297,24 @@ pub(crate) struct Rosenbrock<S> {
     dense: Vec<Vec<f64>>,
     dense_t: f64,
     dense_h: f64,
+    /// Refine each stage's solve ([`RosenbrockOptions::refine_stages`]): the shift
+    /// `1/(h γ)` factored, the stage's right-hand side and its residual (empty when
+    /// not refining).
+    refine: bool,
+    shift: f64,
+    b: Vec<f64>,
+    residual: Vec<f64>,
 }
 
 impl<S: Scheme> Rosenbrock<S> {
-    /// The kernel for `n` states whose iteration matrices have `structure`, tolerances
-    /// `rtol`, `atol` and the step-size controller's `safety` factor.
-    pub fn new(
-        n: usize,
-        structure: &Structure,
-        rtol: f64,
-        atol: f64,
-        safety: f64,
-    ) -> Self {
+    /// The kernel for `n` states whose iteration matrices have `structure`, with the
+    /// tolerances, the controller's safety factor and the refinement of `options`.
+    pub fn new(n: usize, structure: &Structure, options: &RosenbrockOptions) -> Self {
         let tab = S::TABLEAU;
+        let (rtol, atol, safety) = (options.rtol, options.atol, options.safety);
+        let refine = options.refine_stages;
         let v = || vec![0.0; n];
+        let scratch = || vec![0.0; if refine { n } else { 0 }];
         Rosenbrock {
             tab,
             scheme: PhantomData,
@@ -324,6 +328,10 @@ impl<S: Scheme> Rosenbrock<S> {
             dense: (0..2 + tab.dense.len()).map(|_| v()).collect(),
             dense_t: 0.0,
             dense_h: 1.0,
+            refine,
+            shift: 0.0,
+            b: scratch(),
+            residual: scratch(),
         }
     }
 }
@@ -348,10 +356,8 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {
-        count.add(
-            self.lu
-                .factor(1.0 / (h * self.tab.gamma), jac, new_jacobian)?,
-        );
+        self.shift = 1.0 / (h * self.tab.gamma);
+        count.add(self.lu.factor(self.shift, jac, new_jacobian)?);
         Ok(())
     }
 
@@ -398,7 +404,17 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
                     *r += g * d;
                 }
             }
-            self.lu.solve(&mut self.rhs);
+            if self.refine {
+                self.b.copy_from_slice(&self.rhs);
+                self.lu.solve(&mut self.rhs);
+                residual(start.jac, self.shift, &self.b, &self.rhs, &mut self.residual);
+                self.lu.solve(&mut self.residual);
+                for (u, d) in self.rhs.iter_mut().zip(&self.residual) {
+                    *u += d;
+                }
+            } else {
+                self.lu.solve(&mut self.rhs);
+            }
             rest[0].copy_from_slice(&self.rhs);
         }
         self.x_new.copy_from_slice(x);
@@ -459,6 +475,53 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
                 .fold(0.0, |acc, dk| dk[i] + s * acc);
             *o = s1 * x0[i] + s * (x1[i] + s1 * d);
         }
+    }
+}
+
+/// `r = b - (σ u - J u)`, each row summed in compensated arithmetic: products split
+/// exactly by a fused multiply-add, sums by Knuth's TwoSum, the rounding errors
+/// accumulated apart (Ogita, Rump & Oishi, "Accurate sum and dot product", SIAM J. Sci.
+/// Comput. 26 (2005), algorithm Dot2): as accurate as if computed in twice the working
+/// precision, then rounded.
+fn residual(jac: &Jacobian, shift: f64, b: &[f64], u: &[f64], r: &mut [f64]) {
+    for (i, ri) in r.iter_mut().enumerate() {
+        let mut acc = Dot2::new(b[i]);
+        acc.add_product(-shift, u[i]);
+        let (cols, values) = jac.row(i);
+        for (&j, &v) in cols.iter().zip(values) {
+            acc.add_product(v, u[j]);
+        }
+        *ri = acc.value();
+    }
+}
+
+/// A compensated sum of products (see [`residual`]).
+struct Dot2 {
+    sum: f64,
+    error: f64,
+}
+
+impl Dot2 {
+    fn new(start: f64) -> Self {
+        Dot2 {
+            sum: start,
+            error: 0.0,
+        }
+    }
+
+    /// Adds `a b`.
+    fn add_product(&mut self, a: f64, b: f64) {
+        let p = a * b;
+        let p_error = a.mul_add(b, -p);
+        let s = self.sum + p;
+        let z = s - self.sum;
+        let s_error = (self.sum - (s - z)) + (p - z);
+        self.sum = s;
+        self.error += p_error + s_error;
+    }
+
+    fn value(&self) -> f64 {
+        self.sum + self.error
     }
 }
 
@@ -574,15 +637,29 @@ mod tests {
         }
     }
 
+    /// The compensated sum of products is exact where plain summation loses
+    /// everything: `1e16 + 1 - 1e16 = 1`, and `(1 + 2^-30)(1 - 2^-30) - 1 = -2^-60`,
+    /// whose product rounds to 1 in `f64`.
+    #[test]
+    fn compensated_products_keep_what_rounding_drops() {
+        let mut acc = Dot2::new(1e16);
+        acc.add_product(1.0, 1.0);
+        acc.add_product(-1e16, 1.0);
+        assert_eq!(acc.value(), 1.0);
+        let e = 2f64.powi(-30);
+        assert_eq!((1.0 + e) * (1.0 - e), 1.0);
+        let mut acc = Dot2::new(-1.0);
+        acc.add_product(1.0 + e, 1.0 - e);
+        assert_eq!(acc.value(), -2f64.powi(-60));
+    }
+
     /// The continuous extension reproduces both ends of the step.
     #[test]
     fn dense_output_matches_the_step_ends() {
         let mut r = Rosenbrock::<Rodas4>::new(
             1,
             &Structure::banded(Band::dense(1)),
-            1e-6,
-            1e-9,
-            0.9,
+            &RosenbrockOptions::default(),
         );
         r.u = (0..6).map(|i| vec![0.1 * i as f64 + 0.05]).collect();
         r.x_new = vec![2.5];
