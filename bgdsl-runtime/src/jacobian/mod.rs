@@ -1236,4 +1236,61 @@ mod tests {
             3 + 4
         );
     }
+    /// `ẋ₀ = −3 x₀ + g(t) x₂`, `ẋ₁ = x₀ − x₁`, `ẋ₂ = −x₂`, with `g = 0` until `t = 1`
+    /// and 5 after, and its Jacobian written by hand, densely, with no pattern declared.
+    struct Late;
+
+    impl Model for Late {
+        type Params = ();
+        const NAME: &'static str = "late";
+        const STATE_NAMES: &'static [&'static str] = &["x0", "x1", "x2"];
+        const OUTPUT_NAMES: &'static [&'static str] = &[];
+        fn params(&self) -> &() {
+            &()
+        }
+        fn initial_state(&self, x0: &mut [f64]) {
+            x0.fill(1.0);
+        }
+        fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+            let g = T::from_f64(if t > 1.0 { 5.0 } else { 0.0 });
+            dx[0] = T::from_f64(-3.0) * x[0] + g * x[2];
+            dx[1] = x[0] - x[1];
+            dx[2] = -x[2];
+        }
+        fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+        fn jacobian(&self, t: f64, _x: &[f64], jac: &mut [f64]) -> bool {
+            let g = if t > 1.0 { 5.0 } else { 0.0 };
+            jac.copy_from_slice(&[-3.0, 0.0, g, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0]);
+            true
+        }
+    }
+
+    /// The detected pattern of a dense hand-written Jacobian holds its non-zeros at
+    /// set-up (and the diagonal); an entry that turns non-zero later grows it (a new
+    /// generation), and the LU storage built for the old pattern is rebuilt for the new
+    /// one and solves right.
+    #[test]
+    fn a_detected_pattern_grows_with_the_hand_written_jacobian() {
+        use crate::linalg::{RealMatrix, Structure};
+        let (mut evaluator, mut jac) = JacobianEvaluator::for_run(&Late);
+        assert_eq!(jac.nnz(), 4);
+        assert!(!jac.is_dense());
+        assert_eq!(jac.pattern().row(0), &[0]);
+        let mut lu = RealMatrix::new(&Structure::of_pattern(jac.pattern()));
+        assert_eq!(
+            evaluator.evaluate_numerical(&Late, 0.5, &[1.0; 3], &mut jac),
+            0
+        );
+        assert_eq!((jac.generation(), jac.get(0, 2)), (0, 0.0));
+        lu.factor(1.0, &jac, true).unwrap();
+        evaluator.evaluate_numerical(&Late, 2.0, &[1.0; 3], &mut jac);
+        assert_eq!((jac.generation(), jac.get(0, 2), jac.nnz()), (1, 5.0, 5));
+        lu.factor(1.0, &jac, true).unwrap();
+        // (I − J) x = b for x = (1, 2, 3): row 0 is 4 x₀ − 5 x₂ = −11.
+        let mut b = [-11.0, -1.0 + 2.0 * 2.0, 2.0 * 3.0];
+        lu.solve(&mut b);
+        for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-14, "{b:?}");
+        }
+    }
 }
