@@ -87,6 +87,23 @@ pub trait Model {
         false
     }
 
+    /// A hand-written Jacobian ∂(dx/dt)/∂x at `(t, x)`, sparse: the values of the
+    /// entries of the declared pattern ([`Model::JACOBIAN_SPARSITY`], which it needs)
+    /// in its order, row by row (`values[k]` is the `k`-th entry of the rows laid end to
+    /// end). Return `true` when written; the default returns `false`.
+    ///
+    /// The stiff solvers prefer it to [`Model::jacobian`]: it needs no `n × n`
+    /// storage, so a large model's Jacobian costs memory and time linear in its
+    /// non-zeros. The dense [`Model::jacobian`] is consulted for models of at most
+    /// `DENSE_HAND_WRITTEN_MAX` states
+    /// (2,048); without a declared pattern its non-zeros are detected (at the initial
+    /// state and two nearby states, and whenever a later one has another) and the stiff
+    /// solvers factor it as sparse all the same.
+    fn jacobian_sparse(&self, t: f64, x: &[f64], values: &mut [f64]) -> bool {
+        let _ = (t, x, values);
+        false
+    }
+
     /// The solver a run uses when the caller names none. Bond-graph models of mechanisms
     /// are stiff by construction (stiff compliant joints stand in for constraints), so
     /// the default is Radau IIA of order 5, which is also correct, if not the cheapest,

@@ -64,6 +64,8 @@ use core::fmt;
 
 pub use matrix::Jacobian;
 
+use std::sync::Arc;
+
 use crate::dual::{Dual, DualN};
 
 /// The derivative in `lane` of a derivative the model evaluated: NaN where the value
@@ -273,8 +275,8 @@ impl SparsityPattern {
     }
 
     /// The transpose: for each column, the rows that may depend on it (compressed-row
-    /// storage of the transpose).
-    fn transpose(&self) -> (Vec<usize>, Vec<usize>) {
+    /// storage of the transpose), and each such entry's position in the pattern's order.
+    fn transpose(&self) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
         let mut count = vec![0usize; self.n + 1];
         for i in 0..self.n {
             for &j in self.row(i) {
@@ -286,15 +288,17 @@ impl SparsityPattern {
         }
         let col_start = count.clone();
         let mut rows = vec![0usize; self.nnz()];
+        let mut positions = vec![0usize; self.nnz()];
         let mut next = count;
         // Rows in increasing order, so each column's rows are sorted.
         for i in 0..self.n {
-            for &j in self.row(i) {
+            for (&j, position) in self.row(i).iter().zip(self.row_range(i)) {
                 rows[next[j]] = i;
+                positions[next[j]] = position;
                 next[j] += 1;
             }
         }
-        (col_start, rows)
+        (col_start, rows, positions)
     }
 }
 
@@ -328,7 +332,7 @@ impl Colouring {
         let colour_of: Vec<usize> = if pattern.is_dense() {
             (0..n).collect()
         } else {
-            let (col_start, col_rows) = pattern.transpose();
+            let (col_start, col_rows, _) = pattern.transpose();
             let mut colour_of = vec![0usize; n];
             // `forbidden[c] == j`: colour `c` is taken by a neighbour of column `j`.
             let mut forbidden = vec![usize::MAX; n];
@@ -403,6 +407,14 @@ pub struct JacobianEvaluator {
     col_start: Vec<usize>,
     /// The rows of each column, one column after the other.
     col_rows: Vec<usize>,
+    /// The position of each of those entries in the pattern's order (where its value
+    /// is in a [`Jacobian`]).
+    col_pos: Vec<usize>,
+    /// The model's own Jacobian, when [`JacobianEvaluator::for_run`] found one.
+    hand_written: HandWritten,
+    /// The pattern is the one the model declares ([`Model::JACOBIAN_SPARSITY`]), in
+    /// whose order [`Model::jacobian_sparse`] writes.
+    declared: bool,
     /// The dual state.
     x: Vec<Dual>,
     /// The dual state derivative.
@@ -413,6 +425,40 @@ pub struct JacobianEvaluator {
     /// The numerical pattern of a run's Jacobians, for
     /// [`JacobianEvaluator::evaluate_numerical`].
     numerical: Numerical,
+}
+
+/// The most states for which the stiff solvers look for a dense hand-written
+/// [`Model::jacobian`] (it needs `n × n` storage: 32 MB here); larger models are
+/// differentiated automatically unless they write [`Model::jacobian_sparse`].
+pub const DENSE_HAND_WRITTEN_MAX: usize = 2048;
+
+/// The model's own Jacobian, as found by [`JacobianEvaluator::for_run`].
+#[derive(Clone, Debug)]
+enum HandWritten {
+    /// None: automatic differentiation.
+    None,
+    /// [`Model::jacobian_sparse`], in the declared pattern's order.
+    Sparse,
+    /// [`Model::jacobian`], into this `n × n` buffer, then gathered into the pattern.
+    Dense(Vec<f64>),
+}
+
+/// Grows `jac`'s pattern by the non-zeros of `dense` (`n × n`, row-major) outside it
+/// and stores `dense` over the grown pattern. Allocates: a detected pattern only grows
+/// when a hand-written Jacobian has a non-zero where it had none at set-up.
+fn grow(jac: &mut Jacobian, dense: &[f64]) {
+    let n = jac.n();
+    let rows: Vec<Vec<usize>> = (0..n)
+        .map(|i| {
+            let old = jac.pattern().row(i);
+            (0..n)
+                .filter(|&j| dense[i * n + j] != 0.0 || old.binary_search(&j).is_ok())
+                .collect()
+        })
+        .collect();
+    let pattern = SparsityPattern::from_rows(&rows).expect("rows built increasing");
+    jac.set_pattern(Arc::new(pattern));
+    jac.gather_dense(dense);
 }
 
 /// How much the product `J v` of a Jacobian compressed by its numerical pattern may
@@ -435,14 +481,16 @@ struct Numerical {
     /// derivative larger than [`CHECK_TOLERANCE`] allows): no more compression this
     /// run.
     given_up: bool,
-    /// `P` as a bit set per row (`words` words each).
-    words: usize,
-    member: Vec<u64>,
-    /// `P` by rows and by columns (capacity: the declared pattern's entries).
+    /// Whether each entry of the declared pattern (in its order) is in `P`.
+    member: Vec<bool>,
+    /// `P` by rows and by columns (capacity: the declared pattern's entries), with each
+    /// entry's position in the declared pattern's order.
     row_start: Vec<usize>,
     cols: Vec<usize>,
+    row_pos: Vec<usize>,
     col_start: Vec<usize>,
     col_rows: Vec<usize>,
+    col_pos: Vec<usize>,
     /// The colouring of `P`'s columns: colour of each column, and the columns of each
     /// colour (`columns[colour_start[c]..colour_start[c + 1]]`).
     n_colours: usize,
@@ -464,7 +512,6 @@ impl Numerical {
             return Numerical::default();
         }
         let (n, nnz) = (pattern.n(), pattern.nnz());
-        let words = n.div_ceil(64).max(1);
         // A fixed direction with entries in [1, 2): no sign pattern, no zero, to make
         // an exact cancellation of a missed entry in `J v` as unlikely as possible.
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
@@ -479,12 +526,13 @@ impl Numerical {
         Numerical {
             known: false,
             given_up: false,
-            words,
-            member: vec![0; n * words],
+            member: vec![false; nnz],
             row_start: vec![0; n + 1],
             cols: vec![0; nnz],
+            row_pos: vec![0; nnz],
             col_start: vec![0; n + 1],
             col_rows: vec![0; nnz],
+            col_pos: vec![0; nnz],
             n_colours: 0,
             colour_of: vec![0; n],
             colour_start: vec![0; n + 1],
@@ -495,34 +543,31 @@ impl Numerical {
         }
     }
 
-    /// Adds the non-zeros of `jac` (at the entries of `pattern`) to `P`; if it grew,
+    /// Adds the non-zeros of `values` (in `pattern`'s order) to `P`; if it grew,
     /// rebuilds its rows, columns and colouring, and says so. Allocates nothing.
-    fn include(&mut self, pattern: &SparsityPattern, jac: &[f64]) -> bool {
+    fn include(&mut self, pattern: &SparsityPattern, values: &[f64]) -> bool {
         let n = pattern.n();
         let mut grew = !self.known;
-        for i in 0..n {
-            for &j in pattern.row(i) {
-                let (w, bit) = (i * self.words + j / 64, 1u64 << (j % 64));
-                // NaN counts as non-zero.
-                if jac[i * n + j] != 0.0 && self.member[w] & bit == 0 {
-                    self.member[w] |= bit;
-                    grew = true;
-                }
+        for (member, &v) in self.member.iter_mut().zip(values) {
+            // NaN counts as non-zero.
+            if v != 0.0 && !*member {
+                *member = true;
+                grew = true;
             }
         }
         self.known = true;
         if !grew {
             return false;
         }
-        let member = |i: usize, j: usize| self.member[i * self.words + j / 64] >> (j % 64) & 1 == 1;
         // By rows, then by columns (rows increasing within each column).
         let mut next = 0;
         self.col_start.fill(0);
         for i in 0..n {
             self.row_start[i] = next;
-            for &j in pattern.row(i) {
-                if member(i, j) {
+            for (&j, position) in pattern.row(i).iter().zip(pattern.row_range(i)) {
+                if self.member[position] {
                     self.cols[next] = j;
+                    self.row_pos[next] = position;
                     next += 1;
                     self.col_start[j + 1] += 1;
                 }
@@ -535,8 +580,10 @@ impl Numerical {
         // `colour_of` serves as the fill pointer of each column here.
         self.colour_of.copy_from_slice(&self.col_start[..n]);
         for i in 0..n {
-            for &j in &self.cols[self.row_start[i]..self.row_start[i + 1]] {
+            for e in self.row_start[i]..self.row_start[i + 1] {
+                let j = self.cols[e];
                 self.col_rows[self.colour_of[j]] = i;
+                self.col_pos[self.colour_of[j]] = self.row_pos[e];
                 self.colour_of[j] += 1;
             }
         }
@@ -579,13 +626,14 @@ impl Numerical {
         &self.columns[self.colour_start[c]..self.colour_start[c + 1]]
     }
 
-    /// Whether `jac`, recovered for `P`, reproduces `J v` (see [`CHECK_TOLERANCE`]).
-    fn check(&self, jac: &[f64]) -> bool {
+    /// Whether `values` (in the declared pattern's order), recovered for `P`,
+    /// reproduce `J v` (see [`CHECK_TOLERANCE`]).
+    fn check(&self, values: &[f64]) -> bool {
         let n = self.jv.len();
         (0..n).all(|i| {
             let (mut sum, mut scale) = (0.0, self.jv[i].abs());
-            for &j in &self.cols[self.row_start[i]..self.row_start[i + 1]] {
-                let term = jac[i * n + j] * self.direction[j];
+            for e in self.row_start[i]..self.row_start[i + 1] {
+                let term = values[self.row_pos[e]] * self.direction[self.cols[e]];
                 sum += term;
                 scale += term.abs();
             }
@@ -606,7 +654,10 @@ impl JacobianEvaluator {
     pub fn new<M: Model>(model: &M) -> Self {
         let _ = model;
         match SparsityPattern::for_model::<M>() {
-            Ok(pattern) => JacobianEvaluator::with_pattern(pattern),
+            Ok(pattern) => JacobianEvaluator {
+                declared: M::JACOBIAN_SPARSITY.is_some(),
+                ..JacobianEvaluator::with_pattern(pattern)
+            },
             Err(e) => panic!("model `{}`: {e}", M::NAME),
         }
     }
@@ -618,8 +669,8 @@ impl JacobianEvaluator {
     pub fn with_pattern(pattern: SparsityPattern) -> Self {
         let n = pattern.n();
         let colouring = Colouring::greedy(&pattern);
-        let (col_start, col_rows) = if pattern.is_dense() {
-            (Vec::new(), Vec::new())
+        let (col_start, col_rows, col_pos) = if pattern.is_dense() {
+            (Vec::new(), Vec::new(), Vec::new())
         } else {
             pattern.transpose()
         };
@@ -627,6 +678,9 @@ impl JacobianEvaluator {
             colouring,
             col_start,
             col_rows,
+            col_pos,
+            hand_written: HandWritten::None,
+            declared: false,
             x: vec![Dual::default(); n],
             dx: vec![Dual::default(); n],
             x_lanes: vec![DualN::default(); n],
@@ -671,7 +725,7 @@ impl JacobianEvaluator {
         if model.jacobian(t, x, jac) {
             return 0;
         }
-        self.differentiate(model, t, x, jac)
+        self.differentiate_dense(model, t, x, jac)
     }
 
     /// As [`JacobianEvaluator::evaluate`], but always by automatic differentiation,
@@ -690,23 +744,86 @@ impl JacobianEvaluator {
     ) -> usize {
         let n = self.n_states();
         self.check_sizes::<M>(x.len(), jac.len(), "jac", n * n);
-        self.differentiate(model, t, x, jac)
+        self.differentiate_dense(model, t, x, jac)
+    }
+
+    /// Writes the Jacobian of `model` at `(t, x)` into `jac`, stored over the
+    /// evaluator's pattern (only its entries are written: no `n × n` storage for a
+    /// sparse pattern), and returns the number of directional derivatives it took: 0
+    /// when the model supplies its own Jacobian in that pattern's order
+    /// ([`Model::jacobian_sparse`] returns `true`), else one per colour. (The dense
+    /// [`Model::jacobian`] is not consulted here: it needs `n × n` storage; see
+    /// [`JacobianEvaluator::evaluate`].)
+    ///
+    /// # Panics
+    /// If `M::N_STATES` or `x.len()` are not `n`, or `jac` is not stored over the
+    /// evaluator's pattern.
+    pub fn evaluate_sparse<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        jac: &mut Jacobian,
+    ) -> usize {
+        let nnz = self.pattern.nnz();
+        self.check_sizes::<M>(x.len(), jac.nnz(), "jac", nnz);
+        assert!(
+            **jac.pattern() == self.pattern,
+            "the Jacobian is stored over another pattern than the evaluator's"
+        );
+        if self.declared && model.jacobian_sparse(t, x, jac.values_mut()) {
+            return 0;
+        }
+        self.differentiate_into(model, t, x, jac.values_mut())
+    }
+
+    /// The Jacobian by one directional derivative per colour, dense row-major into
+    /// `jac` (zeroed first outside a dense pattern).
+    fn differentiate_dense<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        jac: &mut [f64],
+    ) -> usize {
+        let n = self.n_states();
+        if !self.pattern.is_dense() {
+            // Entries outside the pattern are never written below.
+            jac.fill(0.0);
+        }
+        self.differentiate(model, t, x, |i, j, _, v| jac[i * n + j] = v)
+    }
+
+    /// The Jacobian by one directional derivative per colour, into `values` in the
+    /// pattern's order.
+    fn differentiate_into<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        values: &mut [f64],
+    ) -> usize {
+        self.differentiate(model, t, x, |_, _, position, v| values[position] = v)
     }
 
     /// The Jacobian by one directional derivative per colour, [`LANES`] colours per
     /// evaluation on [`DualN`]: the columns of colour `c` are seeded together in lane
     /// `c % LANES`, and each row's tangent in that lane is the entry of the one column
     /// of the colour that the row depends on (for a dense pattern: every row, one
-    /// column per colour). Returns the number of colours.
-    fn differentiate<M: Model>(&mut self, model: &M, t: f64, x: &[f64], jac: &mut [f64]) -> usize {
+    /// column per colour). Each entry `(i, j)` of the pattern, at `position` in its
+    /// order, is handed to `store(i, j, position, value)`. Returns the number of
+    /// colours.
+    fn differentiate<M: Model>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        mut store: impl FnMut(usize, usize, usize, f64),
+    ) -> usize {
         let n = self.n_states();
         let dense = self.pattern.is_dense();
         for (d, &v) in self.x_lanes.iter_mut().zip(x) {
             *d = DualN::constant(v);
-        }
-        if !dense {
-            // Entries outside the pattern are never written below.
-            jac.fill(0.0);
         }
         let n_colours = self.colouring.n_colours();
         for first in (0..n_colours).step_by(LANES) {
@@ -723,11 +840,15 @@ impl JacobianEvaluator {
                     self.x_lanes[j].set_tangent(lane, 0.0);
                     if dense {
                         for (i, d) in self.dx_lanes.iter().enumerate() {
-                            jac[i * n + j] = derivative(d, lane);
+                            store(i, j, i * n + j, derivative(d, lane));
                         }
                     } else {
-                        for &i in &self.col_rows[self.col_start[j]..self.col_start[j + 1]] {
-                            jac[i * n + j] = derivative(&self.dx_lanes[i], lane);
+                        let entries = self.col_start[j]..self.col_start[j + 1];
+                        for (&i, &position) in self.col_rows[entries.clone()]
+                            .iter()
+                            .zip(&self.col_pos[entries])
+                        {
+                            store(i, j, position, derivative(&self.dx_lanes[i], lane));
                         }
                     }
                 }
@@ -741,10 +862,72 @@ impl JacobianEvaluator {
     pub(crate) fn restart(&mut self) {
         self.numerical.known = false;
         self.numerical.given_up = false;
-        self.numerical.member.fill(0);
+        self.numerical.member.fill(false);
     }
 
-    /// As [`JacobianEvaluator::evaluate`], compressed by the *numerical* pattern of the
+    /// The evaluator for the stiff solvers' runs on `model`, and the Jacobian they
+    /// factor from, stored over the model's declared pattern (dense when it declares
+    /// none). A hand-written Jacobian is found here, by evaluating it once at the
+    /// model's initial state: [`Model::jacobian_sparse`] (with a declared pattern), or
+    /// [`Model::jacobian`] for models of at most [`DENSE_HAND_WRITTEN_MAX`] states (it
+    /// needs `n × n` storage). A dense hand-written Jacobian without a declared pattern
+    /// is stored over its detected pattern: the non-zeros it has at the initial state
+    /// and at two nearby states (the diagonal included), grown during the runs if a
+    /// later one has another (see [`Jacobian::generation`]).
+    pub(crate) fn for_run<M: Model>(model: &M) -> (Self, Jacobian) {
+        let mut evaluator = JacobianEvaluator::new(model);
+        let n = M::N_STATES;
+        let mut x0 = vec![0.0; n];
+        model.initial_state(&mut x0);
+        let mut jac = Jacobian::new(Arc::new(evaluator.pattern.clone()));
+        if evaluator.declared && model.jacobian_sparse(0.0, &x0, jac.values_mut()) {
+            evaluator.hand_written = HandWritten::Sparse;
+            return (evaluator, jac);
+        }
+        if n > DENSE_HAND_WRITTEN_MAX {
+            return (evaluator, jac);
+        }
+        let mut dense = vec![0.0; n * n];
+        if !model.jacobian(0.0, &x0, &mut dense) {
+            return (evaluator, jac);
+        }
+        if evaluator.pattern.is_dense() {
+            let mut rows: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
+            let mut add_non_zeros = |dense: &[f64]| {
+                for (i, row) in rows.iter_mut().enumerate() {
+                    row.extend((0..n).filter(|&j| dense[i * n + j] != 0.0));
+                    row.sort_unstable();
+                    row.dedup();
+                }
+            };
+            add_non_zeros(&dense);
+            // Two nearby states, to catch entries that vanish at the initial one (a
+            // rate proportional to a concentration that starts at zero).
+            let mut seed = 0x2545_f491_4f6c_dd1du64;
+            for _ in 0..2 {
+                let x: Vec<f64> = x0
+                    .iter()
+                    .map(|&v| {
+                        seed ^= seed << 13;
+                        seed ^= seed >> 7;
+                        seed ^= seed << 17;
+                        let r = 1.0 + (seed >> 11) as f64 / (1u64 << 53) as f64;
+                        v + 1e-3 * r * (1.0 + v.abs())
+                    })
+                    .collect();
+                if model.jacobian(0.0, &x, &mut dense) {
+                    add_non_zeros(&dense);
+                }
+            }
+            let detected = SparsityPattern::from_rows(&rows).expect("rows built increasing");
+            jac = Jacobian::new(Arc::new(detected));
+        }
+        evaluator.hand_written = HandWritten::Dense(dense);
+        (evaluator, jac)
+    }
+
+    /// As [`JacobianEvaluator::evaluate_sparse`] (with the hand-written Jacobian found
+    /// by [`JacobianEvaluator::for_run`]), compressed by the *numerical* pattern of the
     /// Jacobians met since [`JacobianEvaluator::restart`] when that is smaller.
     ///
     /// A Jacobian can have many fewer non-zeros than its structural pattern (a planar
@@ -764,27 +947,46 @@ impl JacobianEvaluator {
         model: &M,
         t: f64,
         x: &[f64],
-        jac: &mut [f64],
+        jac: &mut Jacobian,
     ) -> usize {
-        let n = self.n_states();
-        self.check_sizes::<M>(x.len(), jac.len(), "jac", n * n);
-        if model.jacobian(t, x, jac) {
-            return 0;
+        match &mut self.hand_written {
+            HandWritten::None => {}
+            HandWritten::Sparse => {
+                if model.jacobian_sparse(t, x, jac.values_mut()) {
+                    return 0;
+                }
+            }
+            HandWritten::Dense(dense) => {
+                let mut count = 0;
+                if !model.jacobian(t, x, dense) {
+                    let mut dense = core::mem::take(dense);
+                    count = self.evaluate_ad(model, t, x, &mut dense);
+                    self.hand_written = HandWritten::Dense(dense);
+                }
+                let HandWritten::Dense(dense) = &self.hand_written else {
+                    unreachable!()
+                };
+                if jac.gather_dense(dense).is_some() {
+                    grow(jac, dense);
+                }
+                return count;
+            }
         }
+        self.check_sizes::<M>(x.len(), jac.nnz(), "jac", self.pattern.nnz());
         if self.pattern.is_dense() {
-            return self.differentiate(model, t, x, jac);
+            return self.differentiate_into(model, t, x, jac.values_mut());
         }
         let num = &self.numerical;
         let compress = num.known && !num.given_up && num.n_colours < self.colouring.n_colours();
         let mut count = 0;
         if compress {
-            count += self.differentiate_numerical(model, t, x, jac);
-            if self.numerical.check(jac) {
+            count += self.differentiate_numerical(model, t, x, jac.values_mut());
+            if self.numerical.check(jac.values()) {
                 return count;
             }
         }
-        count += self.differentiate(model, t, x, jac);
-        let grew = self.numerical.include(&self.pattern, jac);
+        count += self.differentiate_into(model, t, x, jac.values_mut());
+        let grew = self.numerical.include(&self.pattern, jac.values());
         if compress && !grew {
             // The check failed with no entry missing: the model's rounding defeats it.
             self.numerical.given_up = true;
@@ -792,21 +994,21 @@ impl JacobianEvaluator {
         count
     }
 
-    /// The Jacobian compressed by the numerical pattern's colouring, and `J v` into
-    /// `numerical.jv`: `n_colours + 1` directional derivatives, [`LANES`] at a time.
+    /// The Jacobian compressed by the numerical pattern's colouring into `values` (in
+    /// the pattern's order), and `J v` into `numerical.jv`: `n_colours + 1` directional
+    /// derivatives, [`LANES`] at a time.
     fn differentiate_numerical<M: Model>(
         &mut self,
         model: &M,
         t: f64,
         x: &[f64],
-        jac: &mut [f64],
+        values: &mut [f64],
     ) -> usize {
-        let n = self.n_states();
         let num = &mut self.numerical;
         for (d, &v) in self.x_lanes.iter_mut().zip(x) {
             *d = DualN::constant(v);
         }
-        jac.fill(0.0);
+        values.fill(0.0);
         // Directions 0..n_colours are the colours, direction n_colours is `v`.
         let directions = num.n_colours + 1;
         for first in (0..directions).step_by(LANES) {
@@ -835,8 +1037,12 @@ impl JacobianEvaluator {
                 } else {
                     for &j in &num.columns[num.colour_start[d]..num.colour_start[d + 1]] {
                         self.x_lanes[j].set_tangent(lane, 0.0);
-                        for &i in &num.col_rows[num.col_start[j]..num.col_start[j + 1]] {
-                            jac[i * n + j] = derivative(&self.dx_lanes[i], lane);
+                        let entries = num.col_start[j]..num.col_start[j + 1];
+                        for (&i, &position) in num.col_rows[entries.clone()]
+                            .iter()
+                            .zip(&num.col_pos[entries])
+                        {
+                            values[position] = derivative(&self.dx_lanes[i], lane);
                         }
                     }
                 }
@@ -943,12 +1149,15 @@ mod tests {
         let mut numerical = JacobianEvaluator::new(&Switch);
         let mut structural = numerical.clone();
         assert_eq!(structural.n_colours(), 6);
-        let (mut got, mut want) = (vec![0.0; 36], vec![0.0; 36]);
+        // Stored over the declared pattern; the structural one dense.
+        let mut got = Jacobian::new(Arc::new(numerical.pattern().clone()));
+        let (mut got_dense, mut want) = (vec![0.0; 36], vec![0.0; 36]);
         let mut evaluate = |numerical: &mut JacobianEvaluator, x: &[f64], directions: usize| {
             let count = numerical.evaluate_numerical(&Switch, 0.0, x, &mut got);
             assert_eq!(count, directions, "at {x:?}");
             structural.evaluate(&Switch, 0.0, x, &mut want);
-            assert_eq!(got, want, "at {x:?}");
+            got.to_dense(&mut got_dense);
+            assert_eq!(got_dense, want, "at {x:?}");
         };
         let at_rest = [0.5, -1.0, 2.0, 0.25, 3.0, 0.0];
         let moving = [0.5, -1.0, 2.0, 0.25, 3.0, 0.1];
@@ -998,7 +1207,7 @@ mod tests {
     fn a_check_defeated_by_rounding_stops_the_compression() {
         let mut evaluator = JacobianEvaluator::new(&Cancelling);
         assert_eq!(evaluator.n_colours(), 4);
-        let mut jac = vec![0.0; 16];
+        let mut jac = Jacobian::new(Arc::new(evaluator.pattern().clone()));
         // Numerically only (0, 0), (0, 1) and (1, 3) are non-zero (∂ẋ₁/∂x₀ = x₃ = 0):
         // two colours.
         let x = [0.5, 1.0, 2.0, 0.0];
@@ -1016,7 +1225,7 @@ mod tests {
             evaluator.evaluate_numerical(&Cancelling, 0.0, &x, &mut jac),
             4
         );
-        assert_eq!(jac[1], 1.0);
+        assert_eq!(jac.get(0, 1), 1.0);
         evaluator.restart();
         assert_eq!(
             evaluator.evaluate_numerical(&Cancelling, 0.0, &x, &mut jac),
@@ -1026,5 +1235,62 @@ mod tests {
             evaluator.evaluate_numerical(&Cancelling, 0.0, &x, &mut jac),
             3 + 4
         );
+    }
+    /// `ẋ₀ = −3 x₀ + g(t) x₂`, `ẋ₁ = x₀ − x₁`, `ẋ₂ = −x₂`, with `g = 0` until `t = 1`
+    /// and 5 after, and its Jacobian written by hand, densely, with no pattern declared.
+    struct Late;
+
+    impl Model for Late {
+        type Params = ();
+        const NAME: &'static str = "late";
+        const STATE_NAMES: &'static [&'static str] = &["x0", "x1", "x2"];
+        const OUTPUT_NAMES: &'static [&'static str] = &[];
+        fn params(&self) -> &() {
+            &()
+        }
+        fn initial_state(&self, x0: &mut [f64]) {
+            x0.fill(1.0);
+        }
+        fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+            let g = T::from_f64(if t > 1.0 { 5.0 } else { 0.0 });
+            dx[0] = T::from_f64(-3.0) * x[0] + g * x[2];
+            dx[1] = x[0] - x[1];
+            dx[2] = -x[2];
+        }
+        fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+        fn jacobian(&self, t: f64, _x: &[f64], jac: &mut [f64]) -> bool {
+            let g = if t > 1.0 { 5.0 } else { 0.0 };
+            jac.copy_from_slice(&[-3.0, 0.0, g, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0]);
+            true
+        }
+    }
+
+    /// The detected pattern of a dense hand-written Jacobian holds its non-zeros at
+    /// set-up (and the diagonal); an entry that turns non-zero later grows it (a new
+    /// generation), and the LU storage built for the old pattern is rebuilt for the new
+    /// one and solves right.
+    #[test]
+    fn a_detected_pattern_grows_with_the_hand_written_jacobian() {
+        use crate::linalg::{RealMatrix, Structure};
+        let (mut evaluator, mut jac) = JacobianEvaluator::for_run(&Late);
+        assert_eq!(jac.nnz(), 4);
+        assert!(!jac.is_dense());
+        assert_eq!(jac.pattern().row(0), &[0]);
+        let mut lu = RealMatrix::new(&Structure::of_pattern(jac.pattern()));
+        assert_eq!(
+            evaluator.evaluate_numerical(&Late, 0.5, &[1.0; 3], &mut jac),
+            0
+        );
+        assert_eq!((jac.generation(), jac.get(0, 2)), (0, 0.0));
+        lu.factor(1.0, &jac, true).unwrap();
+        evaluator.evaluate_numerical(&Late, 2.0, &[1.0; 3], &mut jac);
+        assert_eq!((jac.generation(), jac.get(0, 2), jac.nnz()), (1, 5.0, 5));
+        lu.factor(1.0, &jac, true).unwrap();
+        // (I − J) x = b for x = (1, 2, 3): row 0 is 4 x₀ − 5 x₂ = −11.
+        let mut b = [-11.0, -1.0 + 2.0 * 2.0, 2.0 * 3.0];
+        lu.solve(&mut b);
+        for (got, want) in b.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-14, "{b:?}");
+        }
     }
 }

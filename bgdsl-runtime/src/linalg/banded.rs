@@ -2,13 +2,15 @@
 //! matrices `σ I - J` of the implicit solvers.
 //!
 //! Both factorizations work in place in storage allocated once by `new`; assembling,
-//! factoring and solving allocate nothing. Matrices are square, `n × n`, stored dense and
-//! row-major (`a[i * n + j]` is row `i`, column `j`), but every loop is limited to the
-//! band the matrix is declared to have at set-up: `kl` diagonals below the main one and
-//! `ku` above (from the Jacobian's sparsity pattern, see [`Band::of_pattern`]; a dense
-//! matrix has `kl = ku = n - 1`). Elimination is Gaussian with partial pivoting in the
-//! form of LINPACK's `dgbfa`: at step `k` the largest entry of column `k` (in modulus;
-//! for complex entries `|re| + |im|`) among the `kl` rows below is swapped up (only the
+//! factoring and solving allocate nothing. Matrices are square, `n × n`, with the band
+//! declared at set-up: `kl` diagonals below the main one and `ku` above (from the
+//! Jacobian's sparsity pattern, see [`Band::of_pattern`]; a dense matrix has
+//! `kl = ku = n - 1`). Only the band is stored: row `i` holds the `w = min(2 kl + ku + 1,
+//! n)` columns from `lo(i) = max(i - kl, 0)` on (the band and the fill-in of partial
+//! pivoting), so storage is `n w` numbers, `n²` only for a dense matrix (where it is
+//! plain row-major). Elimination is Gaussian with partial pivoting in the form of
+//! LINPACK's `dgbfa`: at step `k` the largest entry of column `k` (in modulus; for
+//! complex entries `|re| + |im|`) among the `kl` rows below is swapped up (only the
 //! columns from `k` on: the multipliers stay where they were computed), and the rows
 //! below are updated by contiguous row operations. The factor `U` then has upper
 //! bandwidth `kl + ku`, so each factorization costs `O(n kl (kl + ku))` and each solve
@@ -18,6 +20,7 @@
 //! ("split" storage), so that its row updates are real vector operations too.
 
 use super::Singular;
+use crate::jacobian::Jacobian;
 
 /// The band of an `n × n` matrix: entry `(i, j)` may be non-zero only if
 /// `i - kl <= j <= i + ku`.
@@ -66,6 +69,28 @@ impl Band {
             .sum()
     }
 
+    /// The number of rows (and columns).
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The width of a stored row: `min(2 kl + ku + 1, n)`.
+    #[inline]
+    pub fn width(&self) -> usize {
+        (2 * self.kl + self.ku + 1).min(self.n)
+    }
+
+    /// The numbers one matrix of this band stores: `n` rows of [`Band::width`].
+    pub fn storage(&self) -> usize {
+        self.n * self.width()
+    }
+
+    /// The first column stored for row `i`.
+    #[inline]
+    fn lo(&self, i: usize) -> usize {
+        i.saturating_sub(self.kl).min(self.n - self.width())
+    }
+
     /// The columns row `i` may hold during and after factorization: `[i - kl,
     /// i + kl + ku]`, clipped to the matrix.
     #[inline]
@@ -75,6 +100,26 @@ impl Band {
             (i + self.kl + self.ku + 1).min(self.n),
         )
     }
+
+    /// Where entry `(i, j)` (within row `i`'s window) is stored.
+    #[inline]
+    fn index(&self, i: usize, j: usize) -> usize {
+        i * self.width() + j - self.lo(i)
+    }
+}
+
+/// Writes `shift I - jac` into band storage `a` (row `i`'s window zeroed first, which
+/// also clears the fill-in of an earlier factorization).
+fn set_shifted(band: &Band, a: &mut [f64], shift: f64, jac: &Jacobian) {
+    for i in 0..band.n {
+        let (lo, hi) = band.window(i);
+        a[band.index(i, lo)..band.index(i, hi - 1) + 1].fill(0.0);
+        let (cols, values) = jac.row(i);
+        for (&j, &v) in cols.iter().zip(values) {
+            a[band.index(i, j)] = -v;
+        }
+        a[band.index(i, i)] += shift;
+    }
 }
 
 /// `A = P L U` of a real banded `n × n` matrix, computed in place.
@@ -82,7 +127,7 @@ impl Band {
 pub(crate) struct Lu {
     band: Band,
     /// The matrix before [`Lu::factor`]; the multipliers of `L` (strictly below the
-    /// diagonal, where they were computed) and `U` after.
+    /// diagonal, where they were computed) and `U` after; band storage.
     a: Vec<f64>,
     /// At step `k`, row `k` was swapped with row `piv[k]`.
     piv: Vec<usize>,
@@ -99,53 +144,41 @@ impl Lu {
         let n = band.n;
         Lu {
             band,
-            a: vec![0.0; n * n],
+            a: vec![0.0; band.storage()],
             piv: vec![0; n],
             mult: vec![0.0; n * band.kl],
             inv_diag: vec![0.0; n],
         }
     }
 
-    /// Sets the matrix to `shift I - jac`, with `jac` dense row-major and zero outside
-    /// the band.
-    pub fn set_shifted(&mut self, shift: f64, jac: &[f64]) {
-        let n = self.band.n;
-        for i in 0..n {
-            let (lo, hi) = self.band.window(i);
-            let last = (i + self.band.ku + 1).min(n);
-            let row = &mut self.a[i * n..i * n + n];
-            for ((a, j), col) in row[lo..last]
-                .iter_mut()
-                .zip(&jac[i * n + lo..i * n + last])
-                .zip(lo..)
-            {
-                *a = if col == i { shift - j } else { -j };
-            }
-            // Fill-in of an earlier factorization.
-            row[last..hi].fill(0.0);
-        }
+    /// Sets the matrix to `shift I - jac`; `jac` must be zero outside the band.
+    pub fn set_shifted(&mut self, shift: f64, jac: &Jacobian) {
+        set_shifted(&self.band, &mut self.a, shift, jac);
     }
 
-    /// The matrix to be factored, dense row-major, for tests; entries outside the band
-    /// must stay zero.
+    /// The matrix to be factored, dense row-major, for tests (only for a dense band);
+    /// entries outside the band must stay zero.
     #[cfg(test)]
     pub fn matrix_mut(&mut self) -> &mut [f64] {
+        assert_eq!(self.band.width(), self.band.n);
         &mut self.a
     }
 
     /// Factors the matrix in place. On error the storage holds a partly factored
     /// matrix and must be set again before the next [`Lu::factor`].
     pub fn factor(&mut self) -> Result<(), Singular> {
-        let Band { n, kl, ku } = self.band;
+        let band = self.band;
+        let Band { n, kl, ku } = band;
+        let w = band.width();
         let a = &mut self.a[..];
         for k in 0..n {
             let rows_end = (k + kl + 1).min(n);
             let cols_end = (k + kl + ku + 1).min(n);
             // The pivot: the largest entry of column k on or below the diagonal.
             let mut p = k;
-            let mut best = a[k * n + k].abs();
+            let mut best = a[band.index(k, k)].abs();
             for i in k + 1..rows_end {
-                let v = a[i * n + k].abs();
+                let v = a[band.index(i, k)].abs();
                 if v > best {
                     best = v;
                     p = i;
@@ -156,22 +189,27 @@ impl Lu {
             if !(best > 0.0 && best.is_finite()) {
                 return Err(Singular { column: k });
             }
+            let len = cols_end - k;
             if p != k {
-                let (upper, lower) = a.split_at_mut(p * n);
-                upper[k * n + k..k * n + cols_end].swap_with_slice(&mut lower[k..cols_end]);
+                let (upper, lower) = a.split_at_mut(p * w);
+                let (from_k, from_p) = (band.index(k, k), band.index(p, k) - p * w);
+                upper[from_k..from_k + len].swap_with_slice(&mut lower[from_p..from_p + len]);
             }
-            let (head, tail) = a.split_at_mut((k + 1) * n);
-            let pivot_row = &head[k * n + k..k * n + cols_end];
+            let (head, tail) = a.split_at_mut((k + 1) * w);
+            let from_k = band.index(k, k);
+            let pivot_row = &head[from_k..from_k + len];
             let inv = 1.0 / pivot_row[0];
             self.inv_diag[k] = inv;
             let mult = &mut self.mult[k * kl..k * kl + kl];
-            let rows = tail.chunks_exact_mut(n).take(rows_end - k - 1);
-            for (row, m) in rows.zip(mult.iter_mut()) {
-                let l = row[k] * inv;
-                row[k] = l;
+            let rows = tail.chunks_exact_mut(w).take(rows_end - k - 1);
+            for ((row, m), i) in rows.zip(mult.iter_mut()).zip(k + 1..) {
+                let at = k - band.lo(i);
+                let row = &mut row[at..at + len];
+                let l = row[0] * inv;
+                row[0] = l;
                 *m = l;
                 if l != 0.0 {
-                    for (r, u) in row[k + 1..cols_end].iter_mut().zip(&pivot_row[1..]) {
+                    for (r, u) in row[1..].iter_mut().zip(&pivot_row[1..]) {
                         *r -= l * u;
                     }
                 }
@@ -183,7 +221,8 @@ impl Lu {
     /// Solves `A x = b` with the factors of the last successful [`Lu::factor`],
     /// overwriting `b` with `x`.
     pub fn solve(&self, b: &mut [f64]) {
-        let Band { n, kl, ku } = self.band;
+        let band = self.band;
+        let Band { n, kl, ku } = band;
         debug_assert_eq!(b.len(), n);
         let a = &self.a;
         // L^-1 P^T b, one elimination step at a time (as the factorization went).
@@ -205,7 +244,8 @@ impl Lu {
         // far end, so that it waits for the value just computed only at its last term.
         for i in (0..n).rev() {
             let end = (i + kl + ku + 1).min(n);
-            let row = &a[i * n + i + 1..i * n + end];
+            let from = band.index(i, i) + 1;
+            let row = &a[from..from + (end - i - 1)];
             let s = row
                 .iter()
                 .zip(&b[i + 1..end])
@@ -238,8 +278,8 @@ impl ComplexLu {
         let n = band.n;
         ComplexLu {
             band,
-            re: vec![0.0; n * n],
-            im: vec![0.0; n * n],
+            re: vec![0.0; band.storage()],
+            im: vec![0.0; band.storage()],
             piv: vec![0; n],
             mult_re: vec![0.0; n * band.kl],
             mult_im: vec![0.0; n * band.kl],
@@ -248,46 +288,41 @@ impl ComplexLu {
         }
     }
 
-    /// Sets the matrix to `(shift_re + i shift_im) I - jac`, with `jac` real, dense
-    /// row-major and zero outside the band.
-    pub fn set_shifted(&mut self, shift_re: f64, shift_im: f64, jac: &[f64]) {
-        let n = self.band.n;
-        for i in 0..n {
-            let (lo, hi) = self.band.window(i);
-            let last = (i + self.band.ku + 1).min(n);
-            let re = &mut self.re[i * n..i * n + n];
-            for ((a, j), col) in re[lo..last]
-                .iter_mut()
-                .zip(&jac[i * n + lo..i * n + last])
-                .zip(lo..)
-            {
-                *a = if col == i { shift_re - j } else { -j };
-            }
-            re[last..hi].fill(0.0);
-            let im = &mut self.im[i * n..i * n + n];
-            im[lo..hi].fill(0.0);
-            im[i] = shift_im;
+    /// Sets the matrix to `(shift_re + i shift_im) I - jac`, with `jac` real and zero
+    /// outside the band.
+    pub fn set_shifted(&mut self, shift_re: f64, shift_im: f64, jac: &Jacobian) {
+        let band = self.band;
+        set_shifted(&band, &mut self.re, shift_re, jac);
+        for i in 0..band.n {
+            let (lo, hi) = band.window(i);
+            self.im[band.index(i, lo)..band.index(i, hi - 1) + 1].fill(0.0);
+            self.im[band.index(i, i)] = shift_im;
         }
     }
 
-    /// The real and imaginary parts of the matrix, dense row-major, for tests; entries
-    /// outside the band must stay zero.
+    /// The real and imaginary parts of the matrix, dense row-major, for tests (only for
+    /// a dense band); entries outside the band must stay zero.
     #[cfg(test)]
     pub fn matrix_mut(&mut self) -> (&mut [f64], &mut [f64]) {
+        assert_eq!(self.band.width(), self.band.n);
         (&mut self.re, &mut self.im)
     }
 
     /// Factors the matrix in place; see [`Lu::factor`].
     pub fn factor(&mut self) -> Result<(), Singular> {
-        let Band { n, kl, ku } = self.band;
+        let band = self.band;
+        let Band { n, kl, ku } = band;
+        let w = band.width();
         let (re, im) = (&mut self.re[..], &mut self.im[..]);
         for k in 0..n {
             let rows_end = (k + kl + 1).min(n);
             let cols_end = (k + kl + ku + 1).min(n);
             let mut p = k;
-            let mut best = re[k * n + k].abs() + im[k * n + k].abs();
+            let kk = band.index(k, k);
+            let mut best = re[kk].abs() + im[kk].abs();
             for i in k + 1..rows_end {
-                let v = re[i * n + k].abs() + im[i * n + k].abs();
+                let ik = band.index(i, k);
+                let v = re[ik].abs() + im[ik].abs();
                 if v > best {
                     best = v;
                     p = i;
@@ -297,36 +332,40 @@ impl ComplexLu {
             if !(best > 0.0 && best.is_finite()) {
                 return Err(Singular { column: k });
             }
+            let len = cols_end - k;
             if p != k {
-                let (upper, lower) = re.split_at_mut(p * n);
-                upper[k * n + k..k * n + cols_end].swap_with_slice(&mut lower[k..cols_end]);
-                let (upper, lower) = im.split_at_mut(p * n);
-                upper[k * n + k..k * n + cols_end].swap_with_slice(&mut lower[k..cols_end]);
+                let from_p = band.index(p, k) - p * w;
+                let (upper, lower) = re.split_at_mut(p * w);
+                upper[kk..kk + len].swap_with_slice(&mut lower[from_p..from_p + len]);
+                let (upper, lower) = im.split_at_mut(p * w);
+                upper[kk..kk + len].swap_with_slice(&mut lower[from_p..from_p + len]);
             }
-            let (re_head, re_tail) = re.split_at_mut((k + 1) * n);
-            let (im_head, im_tail) = im.split_at_mut((k + 1) * n);
-            let ur = &re_head[k * n + k..k * n + cols_end];
-            let ui = &im_head[k * n + k..k * n + cols_end];
+            let (re_head, re_tail) = re.split_at_mut((k + 1) * w);
+            let (im_head, im_tail) = im.split_at_mut((k + 1) * w);
+            let ur = &re_head[kk..kk + len];
+            let ui = &im_head[kk..kk + len];
             // 1 / pivot.
             let (pr, pi) = (ur[0], ui[0]);
             let d = pr * pr + pi * pi;
             let (inv_r, inv_i) = (pr / d, -pi / d);
             self.inv_re[k] = inv_r;
             self.inv_im[k] = inv_i;
-            let rows = re_tail.chunks_exact_mut(n).zip(im_tail.chunks_exact_mut(n));
+            let rows = re_tail.chunks_exact_mut(w).zip(im_tail.chunks_exact_mut(w));
             let mults = self.mult_re[k * kl..k * kl + kl]
                 .iter_mut()
                 .zip(&mut self.mult_im[k * kl..k * kl + kl]);
-            for ((rr, ri), (mr, mi)) in rows.take(rows_end - k - 1).zip(mults) {
-                let (xr, xi) = (rr[k], ri[k]);
+            for (((rr, ri), (mr, mi)), i) in rows.take(rows_end - k - 1).zip(mults).zip(k + 1..) {
+                let at = k - band.lo(i);
+                let (rr, ri) = (&mut rr[at..at + len], &mut ri[at..at + len]);
+                let (xr, xi) = (rr[0], ri[0]);
                 let lr = xr * inv_r - xi * inv_i;
                 let li = xr * inv_i + xi * inv_r;
-                rr[k] = lr;
-                ri[k] = li;
+                rr[0] = lr;
+                ri[0] = li;
                 *mr = lr;
                 *mi = li;
                 if lr != 0.0 || li != 0.0 {
-                    let row = rr[k + 1..cols_end].iter_mut().zip(&mut ri[k + 1..cols_end]);
+                    let row = rr[1..].iter_mut().zip(&mut ri[1..]);
                     for ((r, i), (u_r, u_i)) in row.zip(ur[1..].iter().zip(&ui[1..])) {
                         *r -= lr * u_r - li * u_i;
                         *i -= lr * u_i + li * u_r;
@@ -340,7 +379,8 @@ impl ComplexLu {
     /// Solves `A x = b` for `b = b_re + i b_im` with the factors of the last successful
     /// [`ComplexLu::factor`], overwriting `b` with `x`.
     pub fn solve(&self, b_re: &mut [f64], b_im: &mut [f64]) {
-        let Band { n, kl, ku } = self.band;
+        let band = self.band;
+        let Band { n, kl, ku } = band;
         debug_assert!(b_re.len() == n && b_im.len() == n);
         let (re, im) = (&self.re, &self.im);
         for k in 0..n {
@@ -365,10 +405,9 @@ impl ComplexLu {
         }
         for i in (0..n).rev() {
             let end = (i + kl + ku + 1).min(n);
-            let (ur, ui) = (
-                &re[i * n + i + 1..i * n + end],
-                &im[i * n + i + 1..i * n + end],
-            );
+            let from = band.index(i, i) + 1;
+            let len = end - i - 1;
+            let (ur, ui) = (&re[from..from + len], &im[from..from + len]);
             let (xr, xi) = (&b_re[i + 1..end], &b_im[i + 1..end]);
             // From the far end, as in the real case.
             let (mut sr, mut si) = (0.0, 0.0);
@@ -388,6 +427,7 @@ impl ComplexLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::jacobian_of;
 
     /// A deterministic pseudo-random number in [-1, 1) (a 64-bit LCG).
     fn rand(state: &mut u64) -> f64 {
@@ -509,8 +549,9 @@ mod tests {
             for shift in [0.1, 2.0] {
                 // A small shift forces pivoting.
                 let j = banded(n, kl, ku, &mut s);
-                banded_lu.set_shifted(shift, &j);
-                dense_lu.set_shifted(shift, &j);
+                let jac = jacobian_of(n, &j);
+                banded_lu.set_shifted(shift, &jac);
+                dense_lu.set_shifted(shift, &jac);
                 banded_lu.factor().unwrap();
                 dense_lu.factor().unwrap();
                 let b: Vec<f64> = (0..n).map(|_| rand(&mut s)).collect();
@@ -530,8 +571,8 @@ mod tests {
                         .sum();
                     assert!((r - b[i]).abs() < 1e-9, "residual");
                 }
-                banded_c.set_shifted(shift, 0.7, &j);
-                dense_c.set_shifted(shift, 0.7, &j);
+                banded_c.set_shifted(shift, 0.7, &jac);
+                dense_c.set_shifted(shift, 0.7, &jac);
                 banded_c.factor().unwrap();
                 dense_c.factor().unwrap();
                 let (mut r1, mut i1) = (b.clone(), b.iter().map(|v| 0.5 * v).collect::<Vec<_>>());

@@ -23,6 +23,7 @@
 
 mod banded;
 mod sparse;
+mod symbolic;
 
 use std::sync::Arc;
 
@@ -95,22 +96,45 @@ pub(crate) enum Factored {
     FellBack,
 }
 
+/// The sparse factorization's fallback (banded, with partial pivoting) is given its
+/// storage at set-up only when the band holds at most this many times the entries of
+/// the sparse factors; a wider band (up to `n²` for a pattern with entries far from
+/// the diagonal) is allocated on the first fallback, which then allocates once.
+const FALLBACK_BAND_FACTOR: usize = 8;
+
+impl Structure {
+    /// Whether the banded storage is allocated at set-up (see
+    /// [`FALLBACK_BAND_FACTOR`]).
+    fn band_up_front(&self) -> bool {
+        match &self.sparse {
+            None => true,
+            Some(st) => self.band.storage() <= FALLBACK_BAND_FACTOR * (st.nnz() + self.band.n()),
+        }
+    }
+}
+
 /// The real iteration matrix `σ I - J`, factored.
 #[derive(Clone, Debug)]
 pub(crate) struct RealMatrix {
+    band: Band,
     sparse: Option<SparseLu>,
-    banded: Lu,
+    /// The banded factorization (allocated when first needed if the band is wide).
+    banded: Option<Lu>,
     /// The last factorization is the banded one.
     use_banded: bool,
+    /// The [`Jacobian::generation`] of the pattern the storage was built for.
+    generation: u64,
 }
 
 impl RealMatrix {
     /// Storage for the matrices of `structure`.
     pub fn new(structure: &Structure) -> Self {
         RealMatrix {
+            band: structure.band,
             sparse: structure.sparse.clone().map(SparseLu::new),
-            banded: Lu::new(structure.band),
+            banded: structure.band_up_front().then(|| Lu::new(structure.band)),
             use_banded: structure.sparse.is_none(),
+            generation: 0,
         }
     }
 
@@ -121,15 +145,19 @@ impl RealMatrix {
         }
     }
 
-    /// Factors `shift I - jac`, `jac` dense row-major and zero outside the pattern;
-    /// `new_jacobian` says that `jac` may differ from the last call's.
+    /// Factors `shift I - jac`; `new_jacobian` says that `jac` may differ from the last
+    /// call's. A Jacobian whose pattern changed (a hand-written one that grew) gets new
+    /// storage for it.
     pub fn factor(
         &mut self,
         shift: f64,
         jac: &Jacobian,
         new_jacobian: bool,
     ) -> Result<Factored, Singular> {
-        let jac = jac.values();
+        if jac.generation() != self.generation {
+            *self = RealMatrix::new(&Structure::of_pattern(jac.pattern()));
+            self.generation = jac.generation();
+        }
         let planned = match &mut self.sparse {
             Some(lu) => {
                 if lu.factor(shift, jac, new_jacobian).is_ok() {
@@ -141,16 +169,19 @@ impl RealMatrix {
             None => Factored::AsPlanned,
         };
         self.use_banded = true;
-        self.banded.set_shifted(shift, jac);
-        self.banded.factor()?;
+        let band = self.band;
+        let banded = self.banded.get_or_insert_with(|| Lu::new(band));
+        banded.set_shifted(shift, jac);
+        banded.factor()?;
         Ok(planned)
     }
 
     /// Solves `A x = b` with the last successful factorization, overwriting `b`.
     pub fn solve(&self, b: &mut [f64]) {
-        match &self.sparse {
-            Some(lu) if !self.use_banded => lu.solve(b),
-            _ => self.banded.solve(b),
+        match (&self.sparse, &self.banded) {
+            (Some(lu), _) if !self.use_banded => lu.solve(b),
+            (_, Some(lu)) => lu.solve(b),
+            _ => unreachable!("solve before a successful factorization"),
         }
     }
 }
@@ -159,21 +190,28 @@ impl RealMatrix {
 /// `E2 = (α + iβ) I - J` (complex), factored together.
 #[derive(Clone, Debug)]
 pub(crate) struct RadauMatrices {
+    band: Band,
     sparse: Option<SparseRadauLu>,
-    real: Lu,
-    complex: ComplexLu,
+    /// The banded factorizations (allocated when first needed if the band is wide).
+    banded: Option<(Lu, ComplexLu)>,
     /// The last factorizations are the banded ones.
     use_banded: bool,
+    /// The [`Jacobian::generation`] of the pattern the storage was built for.
+    generation: u64,
 }
 
 impl RadauMatrices {
     /// Storage for the matrices of `structure`.
     pub fn new(structure: &Structure) -> Self {
+        let band = structure.band;
         RadauMatrices {
+            band,
             sparse: structure.sparse.clone().map(SparseRadauLu::new),
-            real: Lu::new(structure.band),
-            complex: ComplexLu::new(structure.band),
+            banded: structure
+                .band_up_front()
+                .then(|| (Lu::new(band), ComplexLu::new(band))),
             use_banded: structure.sparse.is_none(),
+            generation: 0,
         }
     }
 
@@ -185,17 +223,20 @@ impl RadauMatrices {
     }
 
     /// Factors `E1 = gamma I - jac` and `E2 = (alpha + i beta) I - jac` for
-    /// `shifts = [gamma, alpha, beta]`, `jac` dense row-major and zero outside the
-    /// pattern; `new_jacobian` says that `jac` may differ from the last call's. If the
-    /// sparse factorization of either fails its stability test, both are factored by
-    /// the banded code with partial pivoting ([`Factored::FellBack`]).
+    /// `shifts = [gamma, alpha, beta]`; `new_jacobian` says that `jac` may differ from
+    /// the last call's (a changed pattern gets new storage, as for [`RealMatrix`]). If
+    /// the sparse factorization of either fails its stability test, both are factored
+    /// by the banded code with partial pivoting ([`Factored::FellBack`]).
     pub fn factor(
         &mut self,
         shifts: [f64; 3],
         jac: &Jacobian,
         new_jacobian: bool,
     ) -> Result<Factored, Singular> {
-        let jac = jac.values();
+        if jac.generation() != self.generation {
+            *self = RadauMatrices::new(&Structure::of_pattern(jac.pattern()));
+            self.generation = jac.generation();
+        }
         let [gamma, alpha, beta] = shifts;
         let planned = match &mut self.sparse {
             Some(lu) => {
@@ -208,32 +249,49 @@ impl RadauMatrices {
             None => Factored::AsPlanned,
         };
         self.use_banded = true;
-        self.real.set_shifted(gamma, jac);
-        self.real.factor()?;
-        self.complex.set_shifted(alpha, beta, jac);
-        self.complex.factor()?;
+        let band = self.band;
+        let (real, complex) = self
+            .banded
+            .get_or_insert_with(|| (Lu::new(band), ComplexLu::new(band)));
+        real.set_shifted(gamma, jac);
+        real.factor()?;
+        complex.set_shifted(alpha, beta, jac);
+        complex.factor()?;
         Ok(planned)
     }
 
     /// Solves `E1 x = b` with the last successful factorization, overwriting `b`.
     pub fn solve_real(&self, b: &mut [f64]) {
-        match &self.sparse {
-            Some(lu) if !self.use_banded => lu.solve_real(b),
-            _ => self.real.solve(b),
+        match (&self.sparse, &self.banded) {
+            (Some(lu), _) if !self.use_banded => lu.solve_real(b),
+            (_, Some((real, _))) => real.solve(b),
+            _ => unreachable!("solve before a successful factorization"),
         }
     }
 
     /// Solves `E1 x = b` and `E2 y = c` (`c = c_re + i c_im`) with the last successful
     /// factorizations, overwriting `b` and `c`.
     pub fn solve_both(&mut self, b: &mut [f64], c_re: &mut [f64], c_im: &mut [f64]) {
-        match &mut self.sparse {
-            Some(lu) if !self.use_banded => lu.solve_both(b, c_re, c_im),
-            _ => {
-                self.real.solve(b);
-                self.complex.solve(c_re, c_im);
+        match (&mut self.sparse, &self.banded) {
+            (Some(lu), _) if !self.use_banded => lu.solve_both(b, c_re, c_im),
+            (_, Some((real, complex))) => {
+                real.solve(b);
+                complex.solve(c_re, c_im);
             }
+            _ => unreachable!("solve before a successful factorization"),
         }
     }
+}
+
+/// A Jacobian over the pattern of `dense`'s non-zeros (`n × n`, row-major), for tests.
+#[cfg(test)]
+pub(crate) fn jacobian_of(n: usize, dense: &[f64]) -> Jacobian {
+    let rows: Vec<Vec<usize>> = (0..n)
+        .map(|i| (0..n).filter(|&j| dense[i * n + j] != 0.0).collect())
+        .collect();
+    let mut jac = Jacobian::new(SparsityPattern::from_rows(&rows).unwrap().into());
+    jac.gather_dense(dense);
+    jac
 }
 
 #[cfg(test)]
@@ -292,8 +350,8 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
         for (w, expected) in [(1e12, Factored::FellBack), (2.0, Factored::AsPlanned)] {
             let jac = jacobian(w);
-            let mut stored = Jacobian::new(SparsityPattern::dense(n).into());
-            stored.values_mut().copy_from_slice(&jac);
+            let mut stored = Jacobian::new(pattern(&crossed(n)).into());
+            assert_eq!(stored.gather_dense(&jac), None);
             assert_eq!(real.factor(1.0, &stored, true), Ok(expected), "w = {w}");
             assert_eq!(pair.factor([1.0, 0.5, 0.25], &stored, true), Ok(expected));
             // Residuals of (σ I - J) x = b.

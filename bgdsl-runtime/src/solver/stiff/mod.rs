@@ -25,7 +25,7 @@ use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
 use super::weights::{scaled, Tolerances};
 use crate::error::SolverError;
-use crate::jacobian::{Jacobian, JacobianEvaluator, SparsityPattern};
+use crate::jacobian::{Jacobian, JacobianEvaluator};
 use crate::linalg::{Factored, Singular, Structure};
 use crate::model::{Model, ModelError};
 
@@ -200,14 +200,14 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
     /// memory.
     pub fn new<M: Model>(model: &M, make: impl FnOnce(&Structure) -> S, settings: Common) -> Self {
         let n = M::N_STATES;
-        let evaluator = JacobianEvaluator::new(model);
-        let structure = Structure::of_pattern(evaluator.pattern());
+        let (evaluator, jac) = JacobianEvaluator::for_run(model);
+        let structure = Structure::of_pattern(jac.pattern());
         StiffIntegrator {
             method: make(&structure),
             settings,
             tol: Tolerances::uniform(settings.rtol, settings.atol, n),
             evaluator,
-            jac: Jacobian::new(SparsityPattern::dense(n).into()),
+            jac,
             dfdt: vec![0.0; if S::NEEDS_DFDT { n } else { 0 }],
             f0: vec![0.0; n],
             f_new: vec![0.0; n],
@@ -470,37 +470,28 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         x: &[f64],
         stats: &mut Stats,
     ) -> Result<(), SolverError> {
-        let n = x.len();
         let derivatives = self
             .evaluator
-            .evaluate_numerical(model, t, x, self.jac.values_mut());
+            .evaluate_numerical(model, t, x, &mut self.jac);
         stats.n_jac_rhs += derivatives;
         stats.n_jac += 1;
-        // The first non-finite entry, row by row. Differentiation writes only the
-        // entries of a sparse pattern (the rest stay zero): only those are looked at.
-        let pattern = self.evaluator.pattern();
-        let jac = self.jac.values();
-        let non_finite = if derivatives > 0 && !pattern.is_dense() {
-            (0..n).find_map(|i| {
-                let j = pattern
-                    .row(i)
-                    .iter()
-                    .find(|&&j| !jac[i * n + j].is_finite())?;
-                Some(i * n + j)
-            })
-        } else {
-            jac.iter().position(|v| !v.is_finite())
-        };
-        if let Some(k) = non_finite {
+        // The first non-finite entry, row by row (entries outside the pattern are zero).
+        let jac = &self.jac;
+        let non_finite = (0..jac.n()).find_map(|i| {
+            let (cols, values) = jac.row(i);
+            let k = values.iter().position(|v| !v.is_finite())?;
+            Some((i, cols[k], values[k]))
+        });
+        if let Some((i, j, value)) = non_finite {
             if let Some(cause) = model.evaluation_error() {
                 return Err(SolverError::InvalidModel(cause));
             }
             let name = |i: usize| M::STATE_NAMES.get(i).copied().unwrap_or("?");
             return Err(SolverError::NonFiniteJacobian {
                 t,
-                state: name(k / n),
-                wrt: name(k % n),
-                value: jac[k],
+                state: name(i),
+                wrt: name(j),
+                value,
             });
         }
         if S::NEEDS_DFDT {
