@@ -424,3 +424,147 @@ fn e5_invariant_with_refined_rosenbrock_stages() {
     // Pinned: a change of the algorithm must be deliberate.
     assert_eq!(counters(&stats), [1928, 7, 15475, 1928, 1935], "{stats:?}");
 }
+
+/// The Jacobian pattern of a chain of `NS / 2` masses (see [`chain!`]): row `r` may
+/// depend on the six states from `clamp(2 (r / 2) - 2, 0, NS - 6)` (a superset of the
+/// true pattern at the ends).
+const fn chain_rows<const NS: usize>() -> [[usize; 6]; NS] {
+    let mut rows = [[0; 6]; NS];
+    let mut r = 0;
+    while r < NS {
+        let mut start = 2 * (r / 2);
+        start = if start >= 2 { start - 2 } else { 0 };
+        if start > NS - 6 {
+            start = NS - 6;
+        }
+        let mut k = 0;
+        while k < 6 {
+            rows[r][k] = start + k;
+            k += 1;
+        }
+        r += 1;
+    }
+    rows
+}
+
+/// A chain of masses `m = 1` joined by stiffening springs `k (1 + d²) d` (`k = 1e4`)
+/// and dampers `c = 1e3` (real eigenvalues down to about `-4 c / m`), the first tied to
+/// a wall, the last driven by `sin t`; states `q_i, v_i` per mass. Sparse, with a
+/// declared pattern: the kind of large model the stiff solvers are for.
+macro_rules! chain {
+    ($name:ident, $rows:ident, $refs:ident, $ns:expr) => {
+        static $rows: [[usize; 6]; $ns] = chain_rows::<$ns>();
+        const $refs: [&'static [usize]; $ns] = {
+            let mut refs: [&'static [usize]; $ns] = [&[]; $ns];
+            let mut r = 0;
+            while r < $ns {
+                refs[r] = &$rows[r];
+                r += 1;
+            }
+            refs
+        };
+        struct $name;
+        impl Model for $name {
+            type Params = ();
+            const NAME: &'static str = stringify!($name);
+            const STATE_NAMES: &'static [&'static str] = &[""; $ns];
+            const OUTPUT_NAMES: &'static [&'static str] = &[];
+            const JACOBIAN_SPARSITY: Option<&'static [&'static [usize]]> = Some(&$refs);
+            fn params(&self) -> &() {
+                &()
+            }
+            fn initial_state(&self, x0: &mut [f64]) {
+                x0.fill(0.0);
+            }
+            fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+                let c = T::from_f64;
+                let masses = $ns / 2;
+                // The force of the joint between mass i - 1 (the wall for i = 0) and i.
+                let joint = |i: usize| {
+                    let (q0, v0) = if i == 0 {
+                        (c(0.0), c(0.0))
+                    } else {
+                        (x[2 * i - 2], x[2 * i - 1])
+                    };
+                    let d = x[2 * i] - q0;
+                    c(1e4) * (c(1.0) + d * d) * d + c(1e3) * (x[2 * i + 1] - v0)
+                };
+                let mut left = joint(0);
+                for i in 0..masses {
+                    let right = if i + 1 < masses {
+                        joint(i + 1)
+                    } else {
+                        c(t.sin())
+                    };
+                    dx[2 * i] = x[2 * i + 1];
+                    dx[2 * i + 1] = right - left;
+                    left = right;
+                }
+            }
+            fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+        }
+    };
+}
+
+chain!(Chain500, CHAIN_500_ROWS, CHAIN_500, 500);
+chain!(Chain2000, CHAIN_2000_ROWS, CHAIN_2000, 2000);
+chain!(Chain10000, CHAIN_10000_ROWS, CHAIN_10000, 10000);
+
+fn chain_table<M: Model>(model: &M) {
+    let tight = Solver::Radau5(Radau5Options {
+        rtol: 1e-10,
+        atol: 1e-12,
+        ..Default::default()
+    });
+    let (reference, _) = solve(model, tight, 10.0);
+    // The error relative to the largest |state| (most states are near zero).
+    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    header(&format!("{} ({} states) to t = 10, atol = 1e-3 rtol", M::NAME, M::N_STATES));
+    for rtol in [1e-3, 1e-4, 1e-6] {
+        for solver in methods(rtol, 1e-3 * rtol) {
+            let scaled: Vec<f64> = reference.iter().map(|_| scale).collect();
+            let mut x0 = vec![0.0; M::N_STATES];
+            model.initial_state(&mut x0);
+            let mut sim = Simulation::new(model, solver).unwrap();
+            let mut wall = Duration::MAX;
+            let mut s = Stats::default();
+            for _ in 0..5 {
+                let started = Instant::now();
+                s = sim.run(0.0, &x0, &[10.0], &mut ()).unwrap();
+                wall = wall.min(started.elapsed());
+            }
+            let err = sim
+                .state()
+                .iter()
+                .zip(&reference)
+                .zip(&scaled)
+                .map(|((x, r), s)| (x - r).abs() / s)
+                .fold(0.0, f64::max);
+            println!(
+                "{:<8} {:>6.0e} {:>6} {:>4} {:>7} {:>6} {:>6} {:>9.0} {:>9.2e} {:>6.1}",
+                solver.name(),
+                rtol,
+                s.accepted,
+                s.rejected,
+                s.n_rhs + s.n_jac_rhs,
+                s.n_jac,
+                s.n_lu,
+                wall.as_secs_f64() * 1e6,
+                err,
+                -err.log10()
+            );
+        }
+    }
+}
+
+/// Radau5 against the Rosenbrock methods on large sparse chains: run with
+/// `nice -n 10 cargo test --release -p bgdsl-runtime --test stiff_methods large -- --ignored --nocapture`
+/// (best of five runs; the error is relative to the largest |state| of a Radau5 run at
+/// rtol 1e-10).
+#[test]
+#[ignore = "prints a work-precision table on large models; run in release mode"]
+fn large_chains() {
+    chain_table(&Chain500);
+    chain_table(&Chain2000);
+    chain_table(&Chain10000);
+}
