@@ -76,7 +76,8 @@ pub use record::{EventLog, Recorder, Trajectory};
 pub use scalar::Scalar;
 #[cfg(feature = "std")]
 pub use solver::{
-    sample_times_uniform, simulate, Radau5Options, Rodas4Options, Rodas5POptions, RosenbrockOptions, Simulation, Solver,
+    sample_times_uniform, simulate, Radau5Options, Rodas4Options, Rodas5POptions,
+    RosenbrockOptions, Simulation, Solver,
 };
 pub use solver::{DormandPrinceOptions, FixedStep, Stats};
 #[cfg(feature = "std")]

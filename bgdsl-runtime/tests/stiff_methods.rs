@@ -12,8 +12,8 @@ mod stiff_common;
 use std::time::{Duration, Instant};
 
 use bgdsl_runtime::{
-    DormandPrinceOptions, Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar,
-    Simulation, Solver, Stats, Trajectory,
+    DormandPrinceOptions, Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation,
+    Solver, Stats, Trajectory,
 };
 use stiff_common::*;
 
@@ -519,7 +519,11 @@ fn chain_table<M: Model>(model: &M) {
     let (reference, _) = solve(model, tight, 10.0);
     // The error relative to the largest |state| (most states are near zero).
     let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    header(&format!("{} ({} states) to t = 10, atol = 1e-3 rtol", M::NAME, M::N_STATES));
+    header(&format!(
+        "{} ({} states) to t = 10, atol = 1e-3 rtol",
+        M::NAME,
+        M::N_STATES
+    ));
     for rtol in [1e-3, 1e-4, 1e-6] {
         for solver in methods(rtol, 1e-3 * rtol) {
             let scaled: Vec<f64> = reference.iter().map(|_| scale).collect();

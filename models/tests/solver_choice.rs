@@ -74,7 +74,17 @@ fn flagship_work_precision() {
     let reference = record(&model, reference_solver, &times).expect("reference run");
     println!(
         "{:<8} {:>6} {:>6} {:>4} {:>7} {:>7} {:>6} {:>6} {:>9} {:>6} {:>9}",
-        "method", "rtol", "steps", "rej", "rhs", "jac dir", "jac", "lu", "wall ms", "ratio", "error"
+        "method",
+        "rtol",
+        "steps",
+        "rej",
+        "rhs",
+        "jac dir",
+        "jac",
+        "lu",
+        "wall ms",
+        "ratio",
+        "error"
     );
     for k in 3..=10 {
         let rtol = 10f64.powi(-k);

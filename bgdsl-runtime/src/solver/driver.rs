@@ -249,16 +249,12 @@ impl<'m, M: Model> Simulation<'m, M> {
                 Kernel::Stiff(StiffKernel::Radau5(Box::new(integrator)))
             }
             Solver::Rodas4(o) => {
-                let method = |structure: &_| {
-                    Rosenbrock::<Rodas4>::new(n, structure, &o)
-                };
+                let method = |structure: &_| Rosenbrock::<Rodas4>::new(n, structure, &o);
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Rodas4(Box::new(integrator)))
             }
             Solver::Rodas5P(o) => {
-                let method = |structure: &_| {
-                    Rosenbrock::<Rodas5P>::new(n, structure, &o)
-                };
+                let method = |structure: &_| Rosenbrock::<Rodas5P>::new(n, structure, &o);
                 let integrator = StiffIntegrator::new(model, method, o.common());
                 Kernel::Stiff(StiffKernel::Rodas5P(Box::new(integrator)))
             }
@@ -413,7 +409,9 @@ impl<'m, M: Model> Simulation<'m, M> {
                 .run_fixed(o, samples, recorder)
                 .map_err(|cause| self.diagnose_fixed(cause, o.step, t0, x0))?,
             Solver::DormandPrince(o) => self.run_adaptive(&o, samples, recorder)?,
-            Solver::Radau5(_) | Solver::Rodas4(_) | Solver::Rodas5P(_) => self.run_stiff(samples, recorder)?,
+            Solver::Radau5(_) | Solver::Rodas4(_) | Solver::Rodas5P(_) => {
+                self.run_stiff(samples, recorder)?
+            }
         }
         Ok(self.stats)
     }

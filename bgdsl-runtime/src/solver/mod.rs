@@ -3,8 +3,8 @@
 //! - [`Solver`] chooses the method: fixed-step classical RK4, adaptive Dormand–Prince
 //!   5(4) with dense output, Dormand–Prince with a fixed step, or, for stiff models,
 //!   the implicit Radau IIA method of order 5 ([`Solver::Radau5`]) or the Rosenbrock
-//!   method Rodas4 ([`Solver::Rodas4`]), both with exact Jacobians by automatic
-//!   differentiation and dense output.
+//!   methods Rodas5P ([`Solver::Rodas5P`]) and Rodas4 ([`Solver::Rodas4`]), all with
+//!   exact Jacobians by automatic differentiation and dense output.
 //! - [`Simulation`] pairs a model with a solver, allocates the workspace once, and
 //!   [`Simulation::run`]s from an initial state through a list of sample times, calling a
 //!   [`Recorder`](crate::Recorder) at each; nothing in the stepping loop allocates.

@@ -407,7 +407,13 @@ impl<S: Scheme> ImplicitMethod for Rosenbrock<S> {
             if self.refine {
                 self.b.copy_from_slice(&self.rhs);
                 self.lu.solve(&mut self.rhs);
-                residual(start.jac, self.shift, &self.b, &self.rhs, &mut self.residual);
+                residual(
+                    start.jac,
+                    self.shift,
+                    &self.b,
+                    &self.rhs,
+                    &mut self.residual,
+                );
                 self.lu.solve(&mut self.residual);
                 for (u, d) in self.rhs.iter_mut().zip(&self.residual) {
                     *u += d;
@@ -563,8 +569,9 @@ mod tests {
         let lambda = -0.7;
         let f = |t: f64, y: f64| lambda * y + t.cos();
         let c = 1.0 - lambda / (1.0 + lambda * lambda);
-        let exact =
-            |t: f64| c * (lambda * t).exp() + (t.sin() - lambda * t.cos()) / (1.0 + lambda * lambda);
+        let exact = |t: f64| {
+            c * (lambda * t).exp() + (t.sin() - lambda * t.cos()) / (1.0 + lambda * lambda)
+        };
         let (y1, e) = step(tab, f, lambda, -t0.sin(), t0, exact(t0), h);
         ((y1 - exact(t0 + h)).abs(), e.abs())
     }
@@ -585,7 +592,10 @@ mod tests {
     fn rodas4_has_order_4_and_an_order_3_estimate() {
         for (order, order_est) in local_orders(&RODAS4, 0.02) {
             assert!(order > 4.7, "local error order {order}");
-            assert!((3.8..4.2).contains(&order_est), "estimate order {order_est}");
+            assert!(
+                (3.8..4.2).contains(&order_est),
+                "estimate order {order_est}"
+            );
         }
     }
 
@@ -596,7 +606,10 @@ mod tests {
     fn rodas5p_has_order_5_and_an_order_4_estimate() {
         for (order, order_est) in local_orders(&RODAS5P, 0.1) {
             assert!((5.7..6.5).contains(&order), "local error order {order}");
-            assert!((4.7..5.3).contains(&order_est), "estimate order {order_est}");
+            assert!(
+                (4.7..5.3).contains(&order_est),
+                "estimate order {order_est}"
+            );
         }
     }
 
