@@ -3,7 +3,7 @@
 //! [`super::stiff`], whose own loop (Newton-aware step-size control, Jacobian and LU
 //! reuse) the driver calls one accepted step at a time.
 
-use super::control::{Grid, Run};
+use super::control::{project, Grid, Run};
 use super::events::{Events, HeapEvents};
 use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
@@ -413,8 +413,9 @@ impl<'m, M: Model> Simulation<'m, M> {
     /// (the derivative is evaluated afresh there). This is the approach of SUNDIALS'
     /// constraints option and of Shampine et al., "Non-negative solutions of ODEs"
     /// (Appl. Math. Comput. 170, 2005). Samples between steps come from the method's
-    /// continuous extension, which may dip below zero within the tolerance. An empty
-    /// list removes the constraint.
+    /// continuous extension, which may dip below zero within the tolerance: they are
+    /// recorded with those states set to zero too. An empty list removes the
+    /// constraint.
     ///
     /// # Errors
     ///
@@ -816,6 +817,8 @@ impl<'m, M: Model> Simulation<'m, M> {
     ) -> Result<(), SolverError> {
         let x = if dense {
             self.kernel.interpolate(t, &mut self.x_dense);
+            // The continuous extension may dip below zero within the tolerance.
+            project(&self.non_negative, &mut self.x_dense);
             &self.x_dense
         } else {
             &self.x
