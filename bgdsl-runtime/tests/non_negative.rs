@@ -6,7 +6,8 @@
 mod stiff_common;
 
 use bgdsl_runtime::{
-    DormandPrinceOptions, Model, Radau5Options, Scalar, Simulation, Solver, SolverError, Trajectory,
+    DormandPrinceOptions, Model, Radau5Options, Scalar, Simulation, Solver, SolverError, Stepper,
+    Trajectory,
 };
 use stiff_common::{Robertson, ROBERTSON_REF};
 
@@ -99,6 +100,20 @@ fn dormand_prince_keeps_a_draining_tank_non_negative() {
     }
     assert_eq!(sim.state()[0], 0.0);
     assert!(stats.rejected > 0, "{stats:?}");
+}
+
+/// A `Stepper` passes both settings on: Robertson advanced to `t = 1e15` in four
+/// calls stays non-negative.
+#[test]
+fn a_stepper_keeps_states_non_negative() {
+    let mut stepper = Stepper::new(Robertson, Solver::stiff()).unwrap();
+    stepper.set_atol(&[1e-9, 1e-14, 1e-9]).unwrap();
+    stepper.set_non_negative(&[0, 1, 2]).unwrap();
+    for t in [1e3, 1e7, 1e11, 1e15] {
+        let x = stepper.advance_to(t).unwrap();
+        assert!(x.iter().all(|&v| v >= 0.0), "t = {t:e}: {x:?}");
+    }
+    assert!(stepper.set_atol(&[1e-9]).is_err());
 }
 
 /// Out-of-range indices and fixed-step methods are refused.

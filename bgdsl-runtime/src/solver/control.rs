@@ -107,10 +107,10 @@ pub(crate) struct Adaptive {
     stiffness_after: usize,
 }
 
-impl<M: Model, S: Storage> Run<'_, M, S> {
+impl<'a, M: Model, S: Storage> Run<'a, M, S> {
     /// The error weights of adaptive steps with tolerances `rtol` and (unless the run
     /// has its own per state) `atol`.
-    fn weights(&self, rtol: f64, atol: f64) -> ErrorWeights<'_> {
+    fn weights(&self, rtol: f64, atol: f64) -> ErrorWeights<'a> {
         ErrorWeights {
             rtol,
             atol: match self.atol {
@@ -170,20 +170,18 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
     /// [`ExplicitRk::initial_step`], which costs one evaluation).
     pub fn start_adaptive(&mut self, o: &DormandPrinceOptions) -> Result<Adaptive, SolverError> {
         self.prepare()?;
+        let w = self.weights(o.rtol, o.atol);
         let (t, x) = (*self.t, &*self.x);
-        let w = ErrorWeights {
-            rtol: o.rtol,
-            atol: match self.atol {
-                Some(each) => Atol::Each(each),
-                None => Atol::All(o.atol),
-            },
-        };
         let h = match o.initial_step {
             Some(h) => h.min(o.max_step),
             None => self
                 .kernel
                 .initial_step(self.model, t, x, &w, o.max_step, &mut self.stats.n_rhs)
-                .map_err(non_finite::<M>)?,
+                .map_err(non_finite::<M>)?
+                // The heuristic knows nothing of |t|: far from t = 0 it can propose a
+                // step the time axis does not resolve.
+                .max(100.0 * min_step(t))
+                .min(o.max_step),
         };
         Ok(Adaptive {
             control: Controller::new(o),
@@ -267,7 +265,11 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
                     a.h = h_try * factor;
                     continue;
                 }
-                let h_lambda = self.kernel.stiffness_estimate(h_try);
+                let h_lambda = if a.detect_stiffness {
+                    self.kernel.stiffness_estimate(h_try)
+                } else {
+                    None
+                };
                 self.stats.accepted += 1;
                 self.kernel.accept(t, t_new, self.x, dense(t_new));
                 *self.t = t_new;
@@ -278,7 +280,7 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
                     self.prepare()?;
                 }
                 a.accepted += 1;
-                if let (true, Some(h_lambda)) = (a.detect_stiffness, h_lambda) {
+                if let Some(h_lambda) = h_lambda {
                     if h_lambda > STIFF_H_LAMBDA {
                         self.stats.n_stiff_steps += 1;
                         a.non_stiff_in_a_row = 0;

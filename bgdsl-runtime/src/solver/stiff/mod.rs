@@ -288,7 +288,12 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 .initial_step(model, t, x, &mut stats.n_rhs)
                 .map_err(non_finite::<M>)?,
         };
-        self.h = h.min(self.settings.max_step).min(t_end - t);
+        // The heuristic knows nothing of |t|: far from t = 0 it can propose a step the
+        // time axis does not resolve.
+        self.h = h
+            .max(100.0 * min_step(t))
+            .min(self.settings.max_step)
+            .min(t_end - t);
         Ok(())
     }
 
