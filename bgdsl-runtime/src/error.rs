@@ -32,7 +32,8 @@ pub enum SolverError {
         kind: NonFiniteKind,
     },
     /// The adaptive step size fell below the resolution of the time axis,
-    /// `16 * f64::EPSILON * |t|`, or a fixed step is that small.
+    /// `16 * f64::EPSILON * |t|` (and at least [`MIN_STEP`](crate::solver::MIN_STEP)),
+    /// or a fixed step is that small.
     StepSizeTooSmall {
         /// The time reached.
         t: f64,
@@ -142,6 +143,100 @@ pub enum SolverError {
         wrt: &'static str,
         /// The offending value.
         value: f64,
+    },
+    /// An entry of the model's hand-written Jacobian
+    /// ([`Model::jacobian`](crate::Model::jacobian)) was NaN or infinite (the
+    /// derivatives themselves were finite).
+    NonFiniteHandWrittenJacobian {
+        /// The time at which the Jacobian was evaluated.
+        t: f64,
+        /// The state whose rate was differentiated (the row `i` of `∂ẋ_i/∂x_j`).
+        state: &'static str,
+        /// The state it was differentiated with respect to (the column `j`).
+        wrt: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// The step size of an implicit method fell below the smallest step, its error
+    /// estimate (or, with a zero error weight, its Newton iteration) not meeting the
+    /// tolerance with a longer step: rejected attempts at one time, or accepted steps
+    /// ever shorter. The smallest step is `max(16 * f64::EPSILON * |t|, MIN_STEP)` (see
+    /// [`MIN_STEP`](crate::solver::MIN_STEP)). The usual cause is a tolerance tighter
+    /// than the state's values can be computed to: an absolute tolerance like 1e-200 on
+    /// a state that is zero; the error names the state with the smallest error weight.
+    StepUnderflow {
+        /// The time reached.
+        t: f64,
+        /// The step size of the last attempt.
+        h: f64,
+        /// Attempts of this step rejected in a row.
+        rejected: usize,
+        /// The state with the smallest error weight `atol_i + rtol |x_i|` at `t`.
+        state: &'static str,
+        /// That state's value at `t`.
+        value: f64,
+        /// Its error weight: the absolute error it is held to.
+        weight: f64,
+        /// Whether that weight is below the rounding error of the computation,
+        /// `1e4 * f64::EPSILON * max_j |x_j|` (or zero): then the tolerance, not the
+        /// model, is the likely cause.
+        too_tight: bool,
+    },
+    /// Dormand–Prince found the model stiff (Hairer's test, *Solving ODEs I*,
+    /// Sect. II.10 and DOPRI5's `NSTIFF`): the estimate `h |λ|` of where its steps sit
+    /// on the stability region's boundary exceeded 3.25 on `steps` accepted steps in
+    /// a row (without six non-stiff ones in between), so the steps are limited by
+    /// stability, not accuracy. Turned off by `DormandPrinceOptions::detect_stiffness`.
+    StiffnessDetected {
+        /// The time reached.
+        t: f64,
+        /// The step size of the last step.
+        h: f64,
+        /// The estimate `h |λ|` of the last step.
+        h_lambda: f64,
+        /// The stiff steps in a row counted (at least 15).
+        steps: usize,
+    },
+    /// A per-state absolute tolerance ([`Simulation::set_atol`](crate::Simulation::set_atol))
+    /// is negative or not finite, or zero where the relative tolerance is zero too.
+    InvalidAtol {
+        /// The state's name.
+        state: &'static str,
+        /// The value given.
+        value: f64,
+        /// The range the value must lie in.
+        expected: &'static str,
+    },
+    /// A list given for the model's states does not have one entry per state.
+    #[cfg(feature = "std")]
+    StateListLength {
+        /// What the list is, e.g. `"atol"`.
+        what: &'static str,
+        /// The model's number of states.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// A state index is out of range.
+    #[cfg(feature = "std")]
+    UnknownState {
+        /// What the index was given for, e.g. `"set_non_negative"`.
+        what: &'static str,
+        /// The index.
+        index: usize,
+        /// The model's number of states.
+        n_states: usize,
+    },
+    /// A setting the chosen solver cannot honour, e.g. per-state tolerances for a
+    /// fixed-step method, which has no error control.
+    #[cfg(feature = "std")]
+    UnsupportedSetting {
+        /// The setting, e.g. `"set_atol"`.
+        setting: &'static str,
+        /// The solver's name.
+        solver: &'static str,
+        /// Why, as a phrase.
+        why: &'static str,
     },
     /// The run took longer than its wall-time limit (`max_wall_time`).
     WallTimeExceeded {
@@ -387,6 +482,112 @@ impl fmt::Display for SolverError {
                 Num(*t),
                 Num(*value)
             ),
+            SolverError::NonFiniteHandWrittenJacobian {
+                t,
+                state,
+                wrt,
+                value,
+            } => write!(
+                f,
+                "at t = {}, the model's hand-written Jacobian (Model::jacobian) has a \
+                 non-finite entry ∂ẋ_i/∂x_j = {} for i = `{state}`, j = `{wrt}`, while the \
+                 derivatives are finite there: check that entry of Model::jacobian",
+                Num(*t),
+                Num(*value)
+            ),
+            SolverError::StepUnderflow {
+                t,
+                h,
+                rejected,
+                state,
+                value,
+                weight,
+                too_tight,
+            } => {
+                write!(
+                    f,
+                    "at t = {}, the step size underflowed to {}, below the smallest step \
+                     there (16 eps |t|, at least 1.5e-154)",
+                    Num(*t),
+                    Num(*h)
+                )?;
+                if *rejected > 0 {
+                    write!(f, " after {rejected} rejected attempts in a row")?;
+                }
+                f.write_str(
+                    ": the implicit method could not meet the tolerance with a longer step. ",
+                )?;
+                if *too_tight {
+                    write!(
+                        f,
+                        "The tolerance is probably too tight: state `{state}` (= {}) is held \
+                         to an absolute error of {} (its atol + rtol |x|), below the rounding \
+                         error of the computation; raise its atol (Simulation::set_atol) or \
+                         rtol",
+                        Num(*value),
+                        Num(*weight)
+                    )
+                } else {
+                    write!(
+                        f,
+                        "The solution probably has a singularity there, or a layer thinner \
+                         than the time axis resolves (the tightest error weight, state \
+                         `{state}`'s at {}, is {})",
+                        Num(*value),
+                        Num(*weight)
+                    )
+                }
+            }
+            SolverError::StiffnessDetected {
+                t,
+                h,
+                h_lambda,
+                steps,
+            } => write!(
+                f,
+                "at t = {}, dopri5 found the model stiff: for {steps} steps in a row its \
+                 step size ({} s, h|λ| ≈ {h_lambda:.2}) was held by stability, not \
+                 accuracy (Hairer's stiffness test), so it would crawl on with tiny steps; \
+                 use a stiff solver (Solver::stiff(), radau5), or set \
+                 `DormandPrinceOptions::detect_stiffness` to false to go on",
+                Num(*t),
+                Num(*h)
+            ),
+            SolverError::InvalidAtol {
+                state,
+                value,
+                expected,
+            } => write!(
+                f,
+                "invalid absolute tolerance {} for state `{state}`: expected {expected}",
+                Num(*value)
+            ),
+            #[cfg(feature = "std")]
+            SolverError::StateListLength {
+                what,
+                expected,
+                found,
+            } => write!(
+                f,
+                "`{what}` has {found} values but the model has {expected} states: give \
+                 one per state, in the order of Model::STATE_NAMES"
+            ),
+            #[cfg(feature = "std")]
+            SolverError::UnknownState {
+                what,
+                index,
+                n_states,
+            } => write!(
+                f,
+                "`{what}` names state #{index}, but the model has {n_states} states \
+                 (indices 0..{n_states})"
+            ),
+            #[cfg(feature = "std")]
+            SolverError::UnsupportedSetting {
+                setting,
+                solver,
+                why,
+            } => write!(f, "`{setting}` is not available with {solver}: {why}"),
             SolverError::WallTimeExceeded { t, elapsed, limit } => write!(
                 f,
                 "at t = {}, the run had taken {:.3} s, more than its wall-time limit of \

@@ -219,6 +219,18 @@ impl<M: Model + 'static> Stepper<M> {
         self.simulation.set_event_options(options)
     }
 
+    /// Gives every state its own absolute tolerance for later advances, as
+    /// [`Simulation::set_atol`] (whose errors it returns).
+    pub fn set_atol(&mut self, atol: &[f64]) -> Result<(), SolverError> {
+        self.simulation.set_atol(atol)
+    }
+
+    /// Keeps the states `states` non-negative in later advances, as
+    /// [`Simulation::set_non_negative`] (whose errors it returns).
+    pub fn set_non_negative(&mut self, states: &[usize]) -> Result<(), SolverError> {
+        self.simulation.set_non_negative(states)
+    }
+
     /// The current time.
     pub fn time(&self) -> f64 {
         self.t

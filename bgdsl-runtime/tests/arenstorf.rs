@@ -74,6 +74,8 @@ fn solve(rtol: f64, atol: f64) -> (f64, Stats) {
     });
     let mut sim = Simulation::new(&Arenstorf, solver).unwrap();
     let stats = sim.run(0.0, &Y0, &[PERIOD], &mut ()).unwrap();
+    // Not stiff: Hairer's stiffness test never finds a stiff step.
+    assert_eq!(stats.n_stiff_steps, 0, "{stats:?}");
     let err = return_error(sim.state());
     eprintln!("tol {rtol:e}/{atol:e}: return error {err:e}, {stats:?}");
     (err, stats)
@@ -119,4 +121,24 @@ fn tighter_tolerance_gives_a_smaller_return_error() {
         assert!(w[1] < w[0] / 10.0, "{errors:?}");
     }
     assert!(errors[3] < 1e-7, "{errors:?}");
+}
+
+/// The stiffness test never fails this non-stiff orbit, at any tolerance down to
+/// rtol = atol = 1e-2 (where the steps are longest), also when it may fail a run from
+/// the first step (`stiffness_after = 0`): at 1e-2 a single step (of 28) sits beyond
+/// `h|λ| = 3.25` (measured), at 1e-3 and tighter none.
+#[test]
+fn the_stiffness_test_never_fires() {
+    for tol in [1e-2, 1e-3, 1e-4, 1e-6, 1e-9, 1e-12] {
+        let solver = Solver::DormandPrince(DormandPrinceOptions {
+            rtol: tol,
+            atol: tol,
+            stiffness_after: 0,
+            ..Default::default()
+        });
+        let mut sim = Simulation::new(&Arenstorf, solver).unwrap();
+        let stats = sim.run(0.0, &Y0, &[PERIOD], &mut ()).unwrap();
+        let most = if tol >= 1e-2 { 1 } else { 0 };
+        assert!(stats.n_stiff_steps <= most, "tol {tol:e}: {stats:?}");
+    }
 }

@@ -14,10 +14,11 @@ mod pairs;
 use std::time::Duration;
 
 use bgdsl_runtime::{
-    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver, Trajectory,
+    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver,
+    SolverError, Trajectory,
 };
 use pairs::Pairs;
-use stiff_common::{Hires, Oregonator};
+use stiff_common::{Hires, Oregonator, Robertson};
 
 #[path = "support/counting.rs"]
 mod counting;
@@ -130,6 +131,33 @@ fn stiff_stepping_allocates_nothing_after_set_up() {
     let (n, result) = allocations_in(|| sim.run(0.0, &[1.0, 2.0, 3.0], &[360.0], &mut ()));
     assert!(result.is_err());
     assert_eq!(n, 0, "allocations in a failing run");
+
+    // Per-state tolerances and non-negative states (steps rejected for going below
+    // zero, others projected, dense samples projected), and the errors of a step
+    // underflow and of Dormand–Prince's stiffness test.
+    for solver in [radau, rodas] {
+        let mut sim = Simulation::new(&Robertson, solver).unwrap();
+        sim.set_atol(&[1e-8, 1e-14, 1e-8]).unwrap();
+        sim.set_non_negative(&[0, 1, 2]).unwrap();
+        let mut traj = Trajectory::for_model::<Robertson>(101);
+        let (n, result) =
+            allocations_in(|| sim.run_uniform(0.0, &[1.0, 0.0, 0.0], 1e15, 101, &mut traj));
+        assert!(result.is_ok(), "{result:?}");
+        assert_eq!(n, 0, "{}: allocations with constraints", solver.name());
+    }
+    let tiny = Solver::Radau5(Radau5Options {
+        atol: 1e-200,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&Robertson, tiny).unwrap();
+    let (n, result) = allocations_in(|| sim.run(0.0, &[1.0, 0.0, 0.0], &[1.0], &mut ()));
+    assert!(matches!(result, Err(SolverError::StepUnderflow { .. })));
+    assert_eq!(n, 0, "allocations in a run ending in a step underflow");
+    let mut sim = Simulation::new(&Robertson, Solver::dopri5()).unwrap();
+    sim.set_non_negative(&[0, 1, 2]).unwrap();
+    let (n, result) = allocations_in(|| sim.run(0.0, &[1.0, 0.0, 0.0], &[1e5], &mut ()));
+    assert!(matches!(result, Err(SolverError::StiffnessDetected { .. })));
+    assert_eq!(n, 0, "allocations in a run ending in the stiffness test");
 
     // Setting up does allocate (the workspace), so the counter does count.
     let (n, sim) = allocations_in(|| Simulation::new(&Oregonator, radau));

@@ -8,7 +8,7 @@ use std::time::Duration;
 use bgdsl_runtime::{
     Model, NonFiniteKind, Radau5Options, Rodas4Options, Scalar, Simulation, Solver, SolverError,
 };
-use stiff_common::VanDerPol;
+use stiff_common::{Robertson, VanDerPol};
 
 /// `y' = y^2`, `y(0) = 1`: `y = 1 / (1 - t)` blows up at t = 1.
 struct BlowUp;
@@ -118,6 +118,54 @@ impl Model for Degenerate {
     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
 }
 
+/// Van der Pol in the scaled form of the Bari test set with `ε = 1e-12` (`μ = 1e6`):
+/// `y1' = y2`, `y2' = ((1 - y1²) y2 - y1) / ε`.
+struct VanDerPolMu1e6;
+
+impl Model for VanDerPolMu1e6 {
+    type Params = ();
+    const NAME: &'static str = "vdp_mu_1e6";
+    const STATE_NAMES: &'static [&'static str] = &["y1", "y2"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[2.0, -0.66]);
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, y: &[T], dy: &mut [T]) {
+        dy[0] = y[1];
+        dy[1] = ((T::from_f64(1.0) - y[0] * y[0]) * y[1] - y[0]) / T::from_f64(1e-12);
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
+/// `tank.level' = -k tank.level`, `valve.flow' = tank.level - valve.flow` with a
+/// hand-written Jacobian whose entry ∂(valve.flow)'/∂(tank.level) is (wrongly) NaN.
+struct BadHandJacobian;
+
+impl Model for BadHandJacobian {
+    type Params = ();
+    const NAME: &'static str = "bad_hand_jacobian";
+    const STATE_NAMES: &'static [&'static str] = &["tank.level", "valve.flow"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[1.0, 0.0]);
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, x: &[T], dx: &mut [T]) {
+        dx[0] = -T::from_f64(2.0) * x[0];
+        dx[1] = x[0] - x[1];
+    }
+    fn jacobian(&self, _t: f64, _x: &[f64], jac: &mut [f64]) -> bool {
+        jac.copy_from_slice(&[-2.0, 0.0, f64::NAN, -1.0]);
+        true
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
 fn solvers() -> [Solver; 2] {
     [
         Solver::Radau5(Radau5Options::default()),
@@ -127,7 +175,10 @@ fn solvers() -> [Solver; 2] {
 
 /// Towards the singularity the Newton iteration (Radau5) or the error estimate (Rodas4)
 /// fails at ever smaller steps until the step size underflows, within the tolerance of
-/// t = 1 (the numerical solution's singularity lies a little off the exact one).
+/// t = 1 (the numerical solution's singularity lies a little off the exact one). The
+/// error test's failure is blamed on a singularity, not on the tolerance (the weight of
+/// `y`, about `1e-6 y`, is far above the rounding error) and never on an explicit
+/// method.
 #[test]
 fn blow_up_ends_in_newton_divergence_or_step_underflow() {
     for solver in solvers() {
@@ -138,9 +189,23 @@ fn blow_up_ends_in_newton_divergence_or_step_underflow() {
                 assert!(h < 1e-12 && iterations >= 1, "{err:?}");
                 t
             }
-            SolverError::StepSizeTooSmall { t, .. } => t,
+            SolverError::StepUnderflow {
+                t,
+                state,
+                too_tight,
+                ..
+            } => {
+                assert_eq!((state, too_tight), ("y", false), "{err:?}");
+                let text = err.to_string();
+                assert!(
+                    text.contains("The solution probably has a singularity there"),
+                    "{text}"
+                );
+                t
+            }
             other => panic!("{}: unexpected {other:?}", solver.name()),
         };
+        assert!(!err.to_string().contains("explicit"), "{err}");
         assert!((t - 1.0).abs() < 1e-6, "{}: stopped at {t}", solver.name());
         assert!(sim.time() == t && sim.state()[0] > 1e4, "{}", solver.name());
     }
@@ -320,7 +385,8 @@ fn step_budget_is_enforced() {
     }
 }
 
-/// Options out of range are refused at set-up.
+/// Options out of range are refused at set-up. (A zero `atol` is allowed since per-state
+/// tolerances came: it is refused only with `rtol = 0`, where every weight would vanish.)
 #[test]
 fn invalid_options_are_refused() {
     let bad = [
@@ -333,6 +399,14 @@ fn invalid_options_are_refused() {
         ),
         (
             Solver::Radau5(Radau5Options {
+                atol: -1e-9,
+                ..Default::default()
+            }),
+            "atol",
+        ),
+        (
+            Solver::Rodas4(Rodas4Options {
+                rtol: 0.0,
                 atol: 0.0,
                 ..Default::default()
             }),
@@ -372,5 +446,135 @@ fn invalid_options_are_refused() {
             Err(SolverError::InvalidOptions { option, .. }) => assert_eq!(option, name),
             other => panic!("{name}: expected InvalidOptions, got {other:?}"),
         }
+    }
+}
+
+/// The issue's case: with `atol = 1e-200` and states that start at zero (Robertson's
+/// `y2`, `y3`), Radau5 rejected 1007 steps down to `h = 1.46e-309` and blamed a singular
+/// iteration matrix. Now the step guard's floor (`MIN_STEP`, 1.5e-154) stops it after
+/// fewer rejections, and the error names the state and the tolerance. (Rodas4, whose
+/// error estimate for `y2` vanishes on the first steps, gets through.)
+#[test]
+fn a_tolerance_of_1e_minus_200_is_named_as_the_cause() {
+    {
+        let solver = Solver::Radau5(Radau5Options {
+            atol: 1e-200,
+            ..Default::default()
+        });
+        let mut sim = Simulation::new(&Robertson, solver).unwrap();
+        let err = sim
+            .run(0.0, &[1.0, 0.0, 0.0], &[1e11], &mut ())
+            .unwrap_err();
+        let SolverError::StepUnderflow {
+            t,
+            h,
+            rejected,
+            state,
+            value,
+            weight,
+            too_tight,
+        } = err
+        else {
+            panic!("{}: expected StepUnderflow, got {err:?}", solver.name());
+        };
+        assert_eq!((t, state, value, weight), (0.0, "y2", 0.0, 1e-200));
+        assert!(too_tight);
+        assert!(h < bgdsl_runtime::solver::MIN_STEP && h > 0.2 * bgdsl_runtime::solver::MIN_STEP);
+        assert!((100..1007).contains(&rejected), "{rejected}");
+        assert_eq!(sim.stats().rejected, rejected);
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "at t = 0, the step size underflowed to {h:e}, below the smallest step there \
+                 (16 eps |t|, at least 1.5e-154) after {rejected} rejected attempts in a row: \
+                 the implicit method could not meet the tolerance with a longer step. The \
+                 tolerance is probably too tight: state `y2` (= 0) is held to an absolute \
+                 error of 1e-200 (its atol + rtol |x|), below the rounding error of the \
+                 computation; raise its atol (Simulation::set_atol) or rtol"
+            )
+        );
+    }
+}
+
+/// `atol = 0` is allowed (with `rtol > 0`): where no state is zero it asks for relative
+/// accuracy only; Robertson's `y2 = 0` at the start cannot meet it in Radau5's Newton
+/// iteration, which is held to the zero weight, and the error says so.
+#[test]
+fn a_zero_atol_on_a_state_at_zero_is_named() {
+    {
+        let solver = Solver::Radau5(Radau5Options {
+            atol: 0.0,
+            ..Default::default()
+        });
+        let mut sim = Simulation::new(&Robertson, solver).unwrap();
+        let err = sim.run(0.0, &[1.0, 0.0, 0.0], &[1.0], &mut ()).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                SolverError::StepUnderflow {
+                    t: 0.0,
+                    state: "y2",
+                    weight: 0.0,
+                    too_tight: true,
+                    ..
+                }
+            ),
+            "{}: {err:?}",
+            solver.name()
+        );
+        assert!(err.to_string().contains("held to an absolute error of 0"));
+    }
+}
+
+/// Rodas4 on Van der Pol with μ = 1e6 at rtol 1e-10 (the issue: "too stiff for an
+/// explicit method", from an implicit method): its accepted steps shrink through the
+/// fast jump to the resolution of the time axis; the error says the step underflowed
+/// and points at the tolerance, and never mentions an explicit method.
+#[test]
+fn rodas4_step_underflow_never_blames_an_explicit_method() {
+    let solver = Solver::Rodas4(Rodas4Options {
+        rtol: 1e-10,
+        atol: 1e-10,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&VanDerPolMu1e6, solver).unwrap();
+    let err = sim.run(0.0, &[2.0, -0.66], &[2.0], &mut ()).unwrap_err();
+    let SolverError::StepUnderflow { t, h, .. } = err else {
+        panic!("expected StepUnderflow, got {err:?}");
+    };
+    // The time axis's resolution at t, where the jump (time scale ~ε) happens.
+    assert!(t > 0.5 && t < 2.0 && h < 16.0 * f64::EPSILON * t, "{err:?}");
+    let text = err.to_string();
+    assert!(
+        text.contains("the step size underflowed") && !text.contains("explicit"),
+        "{text}"
+    );
+}
+
+/// A NaN from the hand-written Jacobian is reported as such, naming the entry; it used
+/// to say "the model's equations are not differentiable".
+#[test]
+fn a_nan_in_a_hand_written_jacobian_is_reported_as_such() {
+    for solver in solvers() {
+        let mut sim = Simulation::new(&BadHandJacobian, solver).unwrap();
+        let err = sim.run(0.0, &[1.0, 0.0], &[1.0], &mut ()).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                SolverError::NonFiniteHandWrittenJacobian {
+                    t: 0.0,
+                    state: "valve.flow",
+                    wrt: "tank.level",
+                    value,
+                } if value.is_nan()
+            ),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "at t = 0, the model's hand-written Jacobian (Model::jacobian) has a non-finite \
+             entry ∂ẋ_i/∂x_j = NaN for i = `valve.flow`, j = `tank.level`, while the \
+             derivatives are finite there: check that entry of Model::jacobian"
+        );
     }
 }

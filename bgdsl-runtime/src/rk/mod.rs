@@ -326,6 +326,7 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
                     x: &mut x[..],
                     stats: &mut work,
                     atol: None,
+                    non_negative: &[],
                 };
                 let on_grid = run.fixed_step(&mut grid, t_end)?;
                 let t_b = *t;
@@ -492,6 +493,7 @@ impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
                 x: &mut x[..],
                 stats: &mut work,
                 atol: None,
+                non_negative: &[],
             };
             let (adaptive, hybrid) = (&mut self.adaptive, &mut self.hybrid);
             adaptive_steps(&mut run, adaptive, &self.options, t_end, once, hybrid)

@@ -12,10 +12,28 @@ use crate::error::SolverError;
 use crate::math;
 use crate::model::{Model, ModelError};
 
-/// The smallest step the time axis resolves at `t`.
+/// The smallest step size an adaptive method takes, s, at any time:
+/// `sqrt(f64::MIN_POSITIVE)`, about 1.5e-154. Near `t = 0` the time axis resolves far
+/// smaller steps, but there the iteration matrices of the implicit methods (which hold
+/// `1/h`) and the squares in the error norms leave the floating-point range, and no
+/// model has dynamics that fast: a step this small means the step-size control has
+/// broken down (a tolerance too tight for the states' values, a singularity).
+pub const MIN_STEP: f64 = 1.491_668_146_240_041_3e-154;
+
+/// The smallest step at `t`: what the time axis resolves there, `16 eps |t|`, and at
+/// least [`MIN_STEP`].
 pub(crate) fn min_step(t: f64) -> f64 {
-    16.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE)
+    (16.0 * f64::EPSILON * t.abs()).max(MIN_STEP)
 }
+
+/// Hairer's stiffness test (DOPRI5, *Solving ODEs I*, Sect. II.10): a step is "stiff"
+/// when `h |λ|` exceeds this (the stability boundary of DOPRI5 on the negative real
+/// axis is 3.3).
+const STIFF_H_LAMBDA: f64 = 3.25;
+/// Stiff steps in a row (no six non-stiff ones in between) that make the run fail.
+pub(crate) const STIFF_STEPS: usize = 15;
+/// Non-stiff steps in a row that forget the stiff ones.
+const NON_STIFF_STEPS: usize = 6;
 
 /// What an explicit integration works on: the model, the kernel with its workspace,
 /// the current time and state, and the counters the work is added to.
@@ -26,8 +44,10 @@ pub(crate) struct Run<'a, M, S: Storage> {
     pub x: &'a mut [f64],
     pub stats: &'a mut Stats,
     /// One absolute tolerance per state, overriding the options' `atol` (the driver's
-    /// [`Simulation::set_atol`](crate::Simulation::set_atol)); `None` for the options'.
+    /// `Simulation::set_atol`); `None` for the options'.
     pub atol: Option<&'a [f64]>,
+    /// The states that must stay `>= 0` (the driver's `Simulation::set_non_negative`).
+    pub non_negative: &'a [usize],
 }
 
 /// The grid `t0 + k * h` of a fixed-step method, and its step budget.
@@ -78,12 +98,19 @@ pub(crate) struct Adaptive {
     atol: f64,
     /// Steps (accepted and rejected, as counted in the run's [`Stats`]) allowed.
     max_steps: usize,
+    /// Hairer's stiffness test is on; the stiff and non-stiff steps in a row.
+    detect_stiffness: bool,
+    stiff_in_a_row: usize,
+    non_stiff_in_a_row: usize,
+    /// Accepted steps since the start, and how many before the test may fail the run.
+    accepted: usize,
+    stiffness_after: usize,
 }
 
-impl<M: Model, S: Storage> Run<'_, M, S> {
+impl<'a, M: Model, S: Storage> Run<'a, M, S> {
     /// The error weights of adaptive steps with tolerances `rtol` and (unless the run
     /// has its own per state) `atol`.
-    fn weights(&self, rtol: f64, atol: f64) -> ErrorWeights<'_> {
+    fn weights(&self, rtol: f64, atol: f64) -> ErrorWeights<'a> {
         ErrorWeights {
             rtol,
             atol: match self.atol {
@@ -143,20 +170,18 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
     /// [`ExplicitRk::initial_step`], which costs one evaluation).
     pub fn start_adaptive(&mut self, o: &DormandPrinceOptions) -> Result<Adaptive, SolverError> {
         self.prepare()?;
+        let w = self.weights(o.rtol, o.atol);
         let (t, x) = (*self.t, &*self.x);
-        let w = ErrorWeights {
-            rtol: o.rtol,
-            atol: match self.atol {
-                Some(each) => Atol::Each(each),
-                None => Atol::All(o.atol),
-            },
-        };
         let h = match o.initial_step {
             Some(h) => h.min(o.max_step),
             None => self
                 .kernel
                 .initial_step(self.model, t, x, &w, o.max_step, &mut self.stats.n_rhs)
-                .map_err(non_finite::<M>)?,
+                .map_err(non_finite::<M>)?
+                // The heuristic knows nothing of |t|: far from t = 0 it can propose a
+                // step the time axis does not resolve.
+                .max(100.0 * min_step(t))
+                .min(o.max_step),
         };
         Ok(Adaptive {
             control: Controller::new(o),
@@ -164,6 +189,11 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
             rtol: o.rtol,
             atol: o.atol,
             max_steps: o.max_steps,
+            detect_stiffness: o.detect_stiffness,
+            stiff_in_a_row: 0,
+            non_stiff_in_a_row: 0,
+            accepted: 0,
+            stiffness_after: o.stiffness_after,
         })
     }
 
@@ -224,20 +254,92 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
                 continue;
             }
             failure = None;
-            let err = self
-                .kernel
-                .error_norm(self.x, h_try, &self.weights(a.rtol, a.atol));
+            let w = self.weights(a.rtol, a.atol);
+            let err = self.kernel.error_norm(self.x, h_try, &w);
             if err <= 1.0 {
+                let x_new = self.kernel.x_new();
+                if let Some(factor) = negative_step(self.non_negative, self.x, x_new, &w) {
+                    // A constrained state went below zero beyond its tolerance.
+                    self.stats.rejected += 1;
+                    a.control.last_rejected = true;
+                    a.h = h_try * factor;
+                    continue;
+                }
+                let h_lambda = if a.detect_stiffness {
+                    self.kernel.stiffness_estimate(h_try)
+                } else {
+                    None
+                };
                 self.stats.accepted += 1;
                 self.kernel.accept(t, t_new, self.x, dense(t_new));
                 *self.t = t_new;
                 a.h = a.control.after_accept(h_try, err);
+                if project(self.non_negative, self.x) {
+                    // The derivative at the projected state, for the next step.
+                    self.kernel.restart();
+                    self.prepare()?;
+                }
+                a.accepted += 1;
+                if let Some(h_lambda) = h_lambda {
+                    if h_lambda > STIFF_H_LAMBDA {
+                        self.stats.n_stiff_steps += 1;
+                        a.non_stiff_in_a_row = 0;
+                        a.stiff_in_a_row += 1;
+                        if a.stiff_in_a_row >= STIFF_STEPS && a.accepted >= a.stiffness_after {
+                            return Err(SolverError::StiffnessDetected {
+                                t: t_new,
+                                h: h_try,
+                                h_lambda,
+                                steps: a.stiff_in_a_row,
+                            });
+                        }
+                    } else {
+                        a.non_stiff_in_a_row += 1;
+                        if a.non_stiff_in_a_row >= NON_STIFF_STEPS {
+                            a.stiff_in_a_row = 0;
+                        }
+                    }
+                }
                 return Ok(());
             }
             self.stats.rejected += 1;
             a.h = a.control.after_reject(h_try, err);
         }
     }
+}
+
+/// Whether the step from `x` to `x_new` takes a state of `non_negative` below zero by
+/// more than its error weight (in `w`): then the factor (in `[0.1, 0.9]`) to shorten
+/// the step by, 0.9 times the fraction of the step at which the first such state
+/// crosses zero on the straight line from `x` to `x_new` (as SUNDIALS' CVODE does for
+/// its constraints).
+pub(crate) fn negative_step(
+    non_negative: &[usize],
+    x: &[f64],
+    x_new: &[f64],
+    w: &ErrorWeights<'_>,
+) -> Option<f64> {
+    let mut fraction: Option<f64> = None;
+    for &i in non_negative {
+        if x_new[i] < 0.0 && -x_new[i] > w.at(i, x[i]) {
+            let crossing = (x[i].max(0.0) / (x[i].max(0.0) - x_new[i])).min(1.0);
+            fraction = Some(fraction.map_or(crossing, |f: f64| f.min(crossing)));
+        }
+    }
+    fraction.map(|f| (0.9 * f).clamp(0.1, 0.9))
+}
+
+/// Sets the states of `non_negative` that are below zero (within their tolerance, else
+/// the step was rejected) to zero; returns whether any was.
+pub(crate) fn project(non_negative: &[usize], x: &mut [f64]) -> bool {
+    let mut changed = false;
+    for &i in non_negative {
+        if x[i] < 0.0 {
+            x[i] = 0.0;
+            changed = true;
+        }
+    }
+    changed
 }
 
 /// The step-size controller of Hairer's DOPRI5 (HNW I, Sect. II.4 and IV.2): a PI
@@ -254,7 +356,7 @@ struct Controller {
     max_step: f64,
     /// The error of the last accepted step (at least 1e-4).
     err_prev: f64,
-    last_rejected: bool,
+    pub last_rejected: bool,
 }
 
 impl Controller {

@@ -3,7 +3,7 @@
 //! [`super::stiff`], whose own loop (Newton-aware step-size control, Jacobian and LU
 //! reuse) the driver calls one accepted step at a time.
 
-use super::control::{Grid, Run};
+use super::control::{project, Grid, Run};
 use super::events::{Events, HeapEvents};
 use super::explicit::{check_state, non_finite, ExplicitRk, Heap};
 use super::options::{DormandPrinceOptions, FixedStep, Solver};
@@ -11,6 +11,7 @@ use super::stats::Stats;
 use super::stiff::{Radau5, Rodas4, Rodas5P, Rosenbrock, StiffIntegrator, StiffKernel};
 use super::stiffness;
 use super::tableau::{DORMAND_PRINCE_5, RK4};
+use super::weights::Tolerances;
 use crate::error::{SampleTimeProblem, SolverError};
 use crate::event::{EventAction, EventOptions};
 use crate::model::Model;
@@ -77,6 +78,8 @@ pub struct Simulation<'m, M: Model> {
     /// One absolute tolerance per state ([`Simulation::set_atol`]); `None` for the
     /// solver options' `atol`.
     atol: Option<Vec<f64>>,
+    /// The states that must stay `>= 0` ([`Simulation::set_non_negative`]).
+    non_negative: Vec<usize>,
 }
 
 /// What a run does after a step, once its events are handled.
@@ -272,6 +275,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             x_start: vec![0.0; n],
             resume_events: false,
             atol: None,
+            non_negative: Vec::new(),
         })
     }
 
@@ -312,6 +316,143 @@ impl<'m, M: Model> Simulation<'m, M> {
     /// [`crate::event`]'s references.
     pub(crate) fn continue_events(&mut self) {
         self.resume_events = true;
+    }
+
+    /// Gives every state its own absolute tolerance for later runs, replacing the
+    /// solver options' `atol` (one per state, in the order of
+    /// [`Model::STATE_NAMES`]): each error weight is then `atol[i] + rtol |x_i|`
+    /// ([`Solver::Radau5`] transforms them as it does its `atol`). An entry may be 0
+    /// when `rtol > 0`, for a state only relative accuracy makes sense for; such a
+    /// state must not be zero where it changes (a zero weight asks for an exact
+    /// value, and the run fails with [`SolverError::StepUnderflow`] naming it).
+    ///
+    /// ```
+    /// # use bgdsl_runtime::{Model, Scalar, Simulation, Solver};
+    /// # struct Decay;
+    /// # impl Model for Decay {
+    /// #     type Params = ();
+    /// #     const NAME: &'static str = "decay";
+    /// #     const STATE_NAMES: &'static [&'static str] = &["fast", "slow"];
+    /// #     const OUTPUT_NAMES: &'static [&'static str] = &[];
+    /// #     fn params(&self) -> &() { &() }
+    /// #     fn initial_state(&self, x0: &mut [f64]) { x0.fill(1.0) }
+    /// #     fn derivatives<T: Scalar>(&self, _t: f64, x: &[T], dx: &mut [T]) {
+    /// #         dx[0] = -T::from_f64(1e3) * x[0];
+    /// #         dx[1] = -x[1];
+    /// #     }
+    /// #     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+    /// # }
+    /// let mut sim = Simulation::new(&Decay, Solver::stiff())?;
+    /// sim.set_atol(&[1e-12, 1e-6])?;
+    /// let err = sim.set_atol(&[1e-12, -1.0]).unwrap_err();
+    /// assert_eq!(
+    ///     err.to_string(),
+    ///     "invalid absolute tolerance -1 for state `slow`: expected a finite number >= 0"
+    /// );
+    /// # Ok::<(), bgdsl_runtime::SolverError>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`SolverError::StateListLength`] when `atol` does not have one entry per state;
+    /// [`SolverError::InvalidAtol`] naming the first state whose entry is negative, not
+    /// finite, or 0 with `rtol = 0`; [`SolverError::UnsupportedSetting`] for the
+    /// fixed-step methods, which control no error. The tolerances are then unchanged.
+    pub fn set_atol(&mut self, atol: &[f64]) -> Result<(), SolverError> {
+        let rtol = match self.solver {
+            Solver::DormandPrince(o) => o.rtol,
+            Solver::Radau5(o) => o.rtol,
+            Solver::Rodas4(o) | Solver::Rodas5P(o) => o.rtol,
+            Solver::Rk4(_) | Solver::DormandPrinceFixed(_) => {
+                return Err(SolverError::UnsupportedSetting {
+                    setting: "set_atol",
+                    solver: self.solver.name(),
+                    why: "a fixed-step method controls no error",
+                })
+            }
+        };
+        if atol.len() != M::N_STATES {
+            return Err(SolverError::StateListLength {
+                what: "atol",
+                expected: M::N_STATES,
+                found: atol.len(),
+            });
+        }
+        for (i, &a) in atol.iter().enumerate() {
+            let expected = if !(a.is_finite() && a >= 0.0) {
+                "a finite number >= 0"
+            } else if a == 0.0 && rtol == 0.0 {
+                "a number > 0 (rtol is 0)"
+            } else {
+                continue;
+            };
+            return Err(SolverError::InvalidAtol {
+                state: M::STATE_NAMES.get(i).copied().unwrap_or("?"),
+                value: a,
+                expected,
+            });
+        }
+        if let Kernel::Stiff(k) = &mut self.kernel {
+            k.set_tolerances(&Tolerances {
+                rtol,
+                atol: atol.to_vec(),
+            });
+        }
+        self.atol = Some(atol.to_vec());
+        Ok(())
+    }
+
+    /// The per-state absolute tolerances of [`Simulation::set_atol`], if set.
+    pub fn atol(&self) -> Option<&[f64]> {
+        self.atol.as_deref()
+    }
+
+    /// Makes later runs keep the states `states` (indices into
+    /// [`Model::STATE_NAMES`]) non-negative, as concentrations, masses and amounts
+    /// must be: a step that takes one below zero by more than its error weight
+    /// (`atol_i + rtol |x_i|`) is rejected and retried shorter (0.9 times the fraction
+    /// of the step at which the state crosses zero, at least 0.1 of it), and a step
+    /// that takes one below zero within it is accepted with that state set to zero
+    /// (the derivative is evaluated afresh there). This is the approach of SUNDIALS'
+    /// constraints option and of Shampine et al., "Non-negative solutions of ODEs"
+    /// (Appl. Math. Comput. 170, 2005). Samples between steps come from the method's
+    /// continuous extension, which may dip below zero within the tolerance: they are
+    /// recorded with those states set to zero too. An empty list removes the
+    /// constraint.
+    ///
+    /// # Errors
+    ///
+    /// [`SolverError::UnknownState`] for an index out of range;
+    /// [`SolverError::UnsupportedSetting`] for the fixed-step methods, which cannot
+    /// reject a step. The constraint is then unchanged.
+    pub fn set_non_negative(&mut self, states: &[usize]) -> Result<(), SolverError> {
+        if matches!(self.solver, Solver::Rk4(_) | Solver::DormandPrinceFixed(_)) {
+            return Err(SolverError::UnsupportedSetting {
+                setting: "set_non_negative",
+                solver: self.solver.name(),
+                why: "a fixed-step method cannot reject a step that goes below zero",
+            });
+        }
+        if let Some(&index) = states.iter().find(|&&i| i >= M::N_STATES) {
+            return Err(SolverError::UnknownState {
+                what: "set_non_negative",
+                index,
+                n_states: M::N_STATES,
+            });
+        }
+        self.non_negative.clear();
+        self.non_negative.extend_from_slice(states);
+        self.non_negative.sort_unstable();
+        self.non_negative.dedup();
+        if let Kernel::Stiff(k) = &mut self.kernel {
+            k.set_non_negative(&self.non_negative);
+        }
+        Ok(())
+    }
+
+    /// The states runs keep non-negative ([`Simulation::set_non_negative`]), sorted.
+    pub fn non_negative(&self) -> &[usize] {
+        &self.non_negative
     }
 
     /// The event options runs use.
@@ -545,6 +686,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             x: &mut self.x,
             stats: &mut self.stats,
             atol: self.atol.as_deref(),
+            non_negative: &self.non_negative,
         }
     }
 
@@ -680,6 +822,8 @@ impl<'m, M: Model> Simulation<'m, M> {
     ) -> Result<(), SolverError> {
         let x = if dense {
             self.kernel.interpolate(t, &mut self.x_dense);
+            // The continuous extension may dip below zero within the tolerance.
+            project(&self.non_negative, &mut self.x_dense);
             &self.x_dense
         } else {
             &self.x

@@ -234,6 +234,29 @@ impl<S: Storage> ExplicitRk<S> {
         math::sqrt(sum / n as f64)
     }
 
+    /// Hairer's estimate of `h |λ|` for the last attempted step of length `h`
+    /// (*Solving ODEs I*, Sect. II.10, DOPRI5's `HLAMB`): `h |k_s - k_(s-1)| /
+    /// |x_new - Y_(s-1)|`, the two last stages being evaluated at the same time
+    /// `t + h` (the last stage argument `Y_(s-1)` and the new solution). `None` for a
+    /// tableau without such stages (not FSAL, or `c_(s-1) != 1`), or when the two
+    /// arguments coincide.
+    pub fn stiffness_estimate(&self, h: f64) -> Option<f64> {
+        let tab = self.tableau;
+        let s = tab.stages();
+        if !tab.fsal || s < 3 || tab.c[s - 2] != 1.0 {
+            return None;
+        }
+        let k = self.k.as_ref();
+        let (last, before) = (k[s - 1].as_ref(), k[s - 2].as_ref());
+        let (x_new, stage) = (self.x_new.as_ref(), self.stage.as_ref());
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..x_new.len() {
+            num += math::powi(last[i] - before[i], 2);
+            den += math::powi(x_new[i] - stage[i], 2);
+        }
+        (den > 0.0).then(|| h * math::sqrt(num / den))
+    }
+
     /// Accepts the last attempted step from `(t, x)` to `t_new`: stores the
     /// dense-output coefficients if `dense` (and the tableau has them), then moves the
     /// proposed solution into `x`.

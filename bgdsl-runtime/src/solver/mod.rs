@@ -37,6 +37,7 @@ pub mod stiffness;
 pub(crate) mod tableau;
 pub(crate) mod weights;
 
+pub use control::MIN_STEP;
 #[cfg(feature = "std")]
 pub use driver::{sample_times_uniform, simulate, Simulation};
 #[cfg(feature = "std")]

@@ -259,6 +259,19 @@ pub struct DormandPrinceOptions {
     /// The weight of the previous error in the PI controller (in [0, 0.2]; default
     /// 0.04, as in DOPRI5; 0 gives the standard I controller).
     pub beta: f64,
+    /// Hairer's stiffness test (default `true`): after every accepted step the estimate
+    /// `h |λ|` (from the two last stages, *Solving ODEs I*, Sect. II.10) is compared
+    /// with 3.25, just inside the method's stability boundary; 15 such steps in a row
+    /// (without six others in between), once `stiffness_after` steps are accepted,
+    /// mean the step size is held by stability, not accuracy, and the run fails with
+    /// [`SolverError::StiffnessDetected`] instead of crawling through its budget. The
+    /// stiff steps are counted in [`Stats::n_stiff_steps`](crate::Stats). `false`
+    /// turns the test off (and the count).
+    pub detect_stiffness: bool,
+    /// Accepted steps (since the start, or the last event) before the stiffness test
+    /// may fail a run (default 1,000, DOPRI5's `NSTIFF`): a short run on a mildly
+    /// stiff model is cheaper to finish than to redo with a stiff method.
+    pub stiffness_after: usize,
 }
 
 impl Default for DormandPrinceOptions {
@@ -273,6 +286,8 @@ impl Default for DormandPrinceOptions {
             min_factor: 0.2,
             max_factor: 10.0,
             beta: 0.04,
+            detect_stiffness: true,
+            stiffness_after: 1000,
         }
     }
 }

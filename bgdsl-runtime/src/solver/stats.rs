@@ -40,6 +40,10 @@ pub struct Stats {
     /// one after every accepted step, plus those spent locating events and restarting
     /// after them (0 for a model without events).
     pub n_event_fn: usize,
+    /// Accepted Dormand–Prince steps that Hairer's stiffness test found stiff
+    /// (`h |λ| > 3.25`; see
+    /// [`DormandPrinceOptions::detect_stiffness`](crate::DormandPrinceOptions::detect_stiffness)).
+    pub n_stiff_steps: usize,
 }
 
 impl Stats {
@@ -59,5 +63,6 @@ impl Stats {
         self.n_jac_rhs += other.n_jac_rhs;
         self.events += other.events;
         self.n_event_fn += other.n_event_fn;
+        self.n_stiff_steps += other.n_stiff_steps;
     }
 }

@@ -19,7 +19,7 @@ mod rosenbrock;
 
 use std::time::Instant;
 
-use super::control::min_step;
+use super::control::{min_step, negative_step, project};
 pub(crate) use super::explicit::eval;
 use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
@@ -159,6 +159,10 @@ pub(crate) struct StiffIntegrator<S> {
     settings: Common,
     /// The user's tolerances (the method keeps its own, possibly transformed, copy).
     tol: Tolerances,
+    /// The states that must stay `>= 0`.
+    non_negative: Vec<usize>,
+    /// Attempts of the current step rejected so far.
+    rejected_in_a_row: usize,
     evaluator: JacobianEvaluator,
     /// The Jacobian.
     jac: Jacobian,
@@ -206,6 +210,8 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             method: make(&structure),
             settings,
             tol: Tolerances::uniform(settings.rtol, settings.atol, n),
+            non_negative: Vec::new(),
+            rejected_in_a_row: 0,
             evaluator,
             jac,
             dfdt: vec![0.0; if S::NEEDS_DFDT { n } else { 0 }],
@@ -226,6 +232,18 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             model_failure: None,
             started: Instant::now(),
         }
+    }
+
+    /// Sets the tolerances (checked by the caller) for later runs.
+    pub fn set_tolerances(&mut self, tol: &Tolerances) {
+        self.tol.clone_from(tol);
+        self.method.set_tolerances(tol);
+    }
+
+    /// Sets the states (indices, checked by the caller) that must stay `>= 0`.
+    pub fn set_non_negative(&mut self, states: &[usize]) {
+        self.non_negative.clear();
+        self.non_negative.extend_from_slice(states);
     }
 
     /// Starts a run at `(t, x)` towards `t_end`: evaluates `f(t, x)` and chooses the
@@ -264,6 +282,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         self.h_acc = 0.0;
         self.err_acc = 1.0;
         self.singular_in_a_row = 0;
+        self.rejected_in_a_row = 0;
         self.failure = None;
         self.model_failure = None;
         eval(model, t, x, &mut self.f0, &mut stats.n_rhs).map_err(non_finite::<M>)?;
@@ -273,7 +292,12 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 .initial_step(model, t, x, &mut stats.n_rhs)
                 .map_err(non_finite::<M>)?,
         };
-        self.h = h.min(self.settings.max_step).min(t_end - t);
+        // The heuristic knows nothing of |t|: far from t = 0 it can propose a step the
+        // time axis does not resolve.
+        self.h = h
+            .max(100.0 * min_step(t))
+            .min(self.settings.max_step)
+            .min(t_end - t);
         Ok(())
     }
 
@@ -315,7 +339,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 (t0 + self.h, self.h)
             };
             if h.is_nan() || h < min_step(t0) {
-                return Err(self.underflow_error::<M>(t0, h));
+                return Err(self.underflow_error::<M>(t0, h, x));
             }
             if !self.jac_current && !self.jac_keep {
                 self.jacobian(model, t0, x, stats)?;
@@ -381,14 +405,24 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             if err.is_nan() || err > 1.0 {
                 // Error too large (or NaN): reject, shrink.
                 stats.rejected += 1;
+                self.rejected_in_a_row += 1;
                 self.failure = None;
                 self.last_rejected = true;
                 self.h = if self.first { 0.1 * h } else { h / quot };
                 continue;
             }
+            let x_new = self.method.x_new();
+            if let Some(factor) = negative_step(&self.non_negative, x, x_new, &self.tol.weights()) {
+                // A state that must stay >= 0 went below zero beyond its tolerance.
+                stats.rejected += 1;
+                self.rejected_in_a_row += 1;
+                self.failure = None;
+                self.last_rejected = true;
+                self.h = h * factor;
+                continue;
+            }
             // The derivative at the new point, needed by the next step: a non-finite
             // value means the step left the model's domain.
-            let x_new = self.method.x_new();
             let checked = check_state(x_new, t_new)
                 .and_then(|()| eval(model, t_new, x_new, &mut self.f_new, &mut stats.n_rhs));
             if let Err(nf) = checked {
@@ -406,7 +440,12 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
             self.method.accept(t0, h, x);
             *t = t_new;
             core::mem::swap(&mut self.f0, &mut self.f_new);
+            if project(&self.non_negative, x) {
+                // The derivative at the projected state, for the next step.
+                eval(model, t_new, x, &mut self.f0, &mut stats.n_rhs).map_err(non_finite::<M>)?;
+            }
             stats.accepted += 1;
+            self.rejected_in_a_row = 0;
             self.failure = None;
             self.model_failure = None;
             self.first = false;
@@ -435,6 +474,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
 
     /// Records a failed attempt and shrinks the step.
     fn fail(&mut self, failure: Failure, h: f64, factor: f64) {
+        self.rejected_in_a_row += 1;
         if let Failure::NonFinite(NonFinite {
             cause: Some(cause), ..
         }) = &failure
@@ -446,19 +486,36 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         self.h = h * factor;
     }
 
-    /// The error for a step size that fell below the resolution of the time axis: the
-    /// reason the last attempt failed, if it failed.
-    fn underflow_error<M: Model>(&self, t: f64, h: f64) -> SolverError {
+    /// The error for a step size that fell below the smallest step at `(t, x)`: the
+    /// model's own error, or the reason the last attempt failed; when that was the
+    /// error test (or a Newton iteration held to a zero error weight), the state with
+    /// the smallest error weight, whose tolerance is probably too tight.
+    fn underflow_error<M: Model>(&self, t: f64, h: f64, x: &[f64]) -> SolverError {
         if let Some(cause) = &self.model_failure {
             return SolverError::InvalidModel(cause.clone());
         }
+        let tightest = self.tol.weights().tightest(x);
+        let largest = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let underflow = |(i, weight): (usize, f64)| SolverError::StepUnderflow {
+            t,
+            h,
+            rejected: self.rejected_in_a_row,
+            state: M::STATE_NAMES.get(i).copied().unwrap_or("?"),
+            value: x[i],
+            weight,
+            // Below what rounding in the largest state leaves resolvable.
+            too_tight: weight == 0.0 || weight < 1e4 * f64::EPSILON * largest,
+        };
         match self.failure.clone() {
+            Some(Failure::Newton { .. }) if tightest.is_some_and(|(_, w)| w == 0.0) => {
+                tightest.map_or(SolverError::StepSizeTooSmall { t, h }, underflow)
+            }
             Some(Failure::Newton { iterations }) => {
                 SolverError::NewtonDiverged { t, h, iterations }
             }
             Some(Failure::NonFinite(nf)) => non_finite::<M>(nf),
             Some(Failure::Singular) => SolverError::SingularMatrix { t, h },
-            None => SolverError::StepSizeTooSmall { t, h },
+            None => tightest.map_or(SolverError::StepSizeTooSmall { t, h }, underflow),
         }
     }
 
@@ -487,11 +544,22 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 return Err(SolverError::InvalidModel(cause));
             }
             let name = |i: usize| M::STATE_NAMES.get(i).copied().unwrap_or("?");
-            return Err(SolverError::NonFiniteJacobian {
-                t,
-                state: name(i),
-                wrt: name(j),
-                value,
+            let (state, wrt) = (name(i), name(j));
+            // No directional derivative: the model's hand-written Jacobian.
+            return Err(if derivatives == 0 {
+                SolverError::NonFiniteHandWrittenJacobian {
+                    t,
+                    state,
+                    wrt,
+                    value,
+                }
+            } else {
+                SolverError::NonFiniteJacobian {
+                    t,
+                    state,
+                    wrt,
+                    value,
+                }
             });
         }
         if S::NEEDS_DFDT {
@@ -589,6 +657,22 @@ pub(crate) enum StiffKernel {
 }
 
 impl StiffKernel {
+    pub fn set_tolerances(&mut self, tol: &Tolerances) {
+        match self {
+            StiffKernel::Radau5(k) => k.set_tolerances(tol),
+            StiffKernel::Rodas4(k) => k.set_tolerances(tol),
+            StiffKernel::Rodas5P(k) => k.set_tolerances(tol),
+        }
+    }
+
+    pub fn set_non_negative(&mut self, states: &[usize]) {
+        match self {
+            StiffKernel::Radau5(k) => k.set_non_negative(states),
+            StiffKernel::Rodas4(k) => k.set_non_negative(states),
+            StiffKernel::Rodas5P(k) => k.set_non_negative(states),
+        }
+    }
+
     pub fn start<M: Model>(
         &mut self,
         model: &M,

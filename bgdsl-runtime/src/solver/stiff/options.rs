@@ -40,7 +40,10 @@ use crate::error::SolverError;
 pub struct Radau5Options {
     /// Relative tolerance (in `(10 eps, 1)`; default `1e-6`).
     pub rtol: f64,
-    /// Absolute tolerance (> 0; default `1e-9`).
+    /// Absolute tolerance (>= 0; default `1e-9`). With 0, only relative accuracy is
+    /// asked for: a state that is zero where it changes then cannot meet it (the run
+    /// fails with [`SolverError::StepUnderflow`](crate::SolverError::StepUnderflow)
+    /// naming it); per-state tolerances: [`Simulation::set_atol`](crate::Simulation::set_atol).
     pub atol: f64,
     /// The first step size; `None` (the default) chooses it with the heuristic of
     /// Hairer, Nørsett & Wanner, *Solving ODEs I*, Sect. II.4, at the cost of one extra
@@ -190,7 +193,8 @@ impl Radau5Options {
 pub struct RosenbrockOptions {
     /// Relative tolerance (>= 0, < 1; default `1e-6`).
     pub rtol: f64,
-    /// Absolute tolerance (> 0; default `1e-9`).
+    /// Absolute tolerance (>= 0, and > 0 when `rtol` is 0; default `1e-9`); as
+    /// [`Radau5Options::atol`].
     pub atol: f64,
     /// The first step size; `None` (the default) chooses it as for
     /// [`Radau5Options::initial_step`].
@@ -299,9 +303,14 @@ impl Common {
         check(
             "atol",
             self.atol,
-            self.atol.is_finite() && self.atol > 0.0,
-            "a finite number > 0 (the stiff methods scale their norms by atol + rtol |x|, \
-             which must not vanish)",
+            self.atol.is_finite() && self.atol >= 0.0,
+            "a finite number >= 0",
+        )?;
+        check(
+            "atol",
+            self.atol,
+            self.atol > 0.0 || self.rtol > 0.0,
+            "a number > 0 when rtol is 0 (the error weights atol + rtol |x| would all be 0)",
         )?;
         check_step_control(StepControl {
             initial_step: self.initial_step,

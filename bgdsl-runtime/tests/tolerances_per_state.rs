@@ -1,0 +1,130 @@
+//! Per-state absolute tolerances ([`Simulation::set_atol`]): they reach every adaptive
+//! method's error norm, and bad ones are refused naming the state.
+
+mod stiff_common;
+
+use bgdsl_runtime::{
+    DormandPrinceOptions, FixedStep, Radau5Options, Rodas4Options, Simulation, Solver, SolverError,
+};
+use stiff_common::{Robertson, ROBERTSON_REF};
+
+/// Robertson to `t = 1e11` with Radau5 (rtol 1e-6). `y2` ends near 8.3e-14 (reference:
+/// Bari test set, ROBER), so a scalar `atol = 1e-6` leaves it unresolved (it ends with
+/// the wrong sign), while `atol = 1e-14` for `y2` alone resolves it to 1e-3 relative,
+/// with fewer steps than the scalar 1e-14 that the other states do not need.
+#[test]
+fn a_tight_atol_for_one_state_resolves_it() {
+    let solver = Solver::Radau5(Radau5Options {
+        atol: 1e-6,
+        ..Default::default()
+    });
+    let x0 = [1.0, 0.0, 0.0];
+    let mut sim = Simulation::new(&Robertson, solver).unwrap();
+    sim.run(0.0, &x0, &[1e11], &mut ()).unwrap();
+    let loose = sim.state()[1];
+    assert!(
+        (loose - ROBERTSON_REF[1]).abs() > 0.5 * ROBERTSON_REF[1],
+        "y2 = {loose:e}"
+    );
+
+    sim.set_atol(&[1e-6, 1e-14, 1e-6]).unwrap();
+    assert_eq!(sim.atol(), Some(&[1e-6, 1e-14, 1e-6][..]));
+    let per_state = sim.run(0.0, &x0, &[1e11], &mut ()).unwrap();
+    let x = sim.state().to_vec();
+    let rel = (x[1] - ROBERTSON_REF[1]).abs() / ROBERTSON_REF[1];
+    assert!(rel < 1e-3, "y2 = {:e}, relative error {rel:e}", x[1]);
+    for i in [0, 2] {
+        assert!((x[i] - ROBERTSON_REF[i]).abs() < 1e-6, "{x:?}");
+    }
+
+    let tight = Solver::Radau5(Radau5Options {
+        atol: 1e-14,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&Robertson, tight).unwrap();
+    let all_tight = sim.run(0.0, &x0, &[1e11], &mut ()).unwrap();
+    assert!(
+        per_state.steps() < all_tight.steps(),
+        "{per_state:?} vs {all_tight:?}"
+    );
+}
+
+/// Per-state tolerances equal to the scalar one change nothing: the same steps, the
+/// same result, bit for bit (Radau5, Rodas4, Dormand–Prince).
+#[test]
+fn per_state_atol_equal_to_the_scalar_one_changes_nothing() {
+    let solvers = [
+        Solver::Radau5(Radau5Options {
+            atol: 1e-10,
+            ..Default::default()
+        }),
+        Solver::Rodas4(Rodas4Options {
+            atol: 1e-10,
+            ..Default::default()
+        }),
+    ];
+    let x0 = [1.0, 0.0, 0.0];
+    for solver in solvers {
+        let mut sim = Simulation::new(&Robertson, solver).unwrap();
+        let a = sim.run(0.0, &x0, &[1e5], &mut ()).unwrap();
+        let xa = sim.state().to_vec();
+        sim.set_atol(&[1e-10; 3]).unwrap();
+        let b = sim.run(0.0, &x0, &[1e5], &mut ()).unwrap();
+        assert_eq!(a, b, "{}", solver.name());
+        assert_eq!(xa, sim.state(), "{}", solver.name());
+    }
+    let dopri = Solver::DormandPrince(DormandPrinceOptions {
+        atol: 1e-10,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&Robertson, dopri).unwrap();
+    let a = sim.run(0.0, &x0, &[0.01], &mut ()).unwrap();
+    let xa = sim.state().to_vec();
+    sim.set_atol(&[1e-10; 3]).unwrap();
+    let b = sim.run(0.0, &x0, &[0.01], &mut ()).unwrap();
+    assert_eq!((a, xa.as_slice()), (b, sim.state()));
+    // A looser atol for y2 alone takes fewer steps.
+    sim.set_atol(&[1e-10, 1e-4, 1e-10]).unwrap();
+    let c = sim.run(0.0, &x0, &[0.01], &mut ()).unwrap();
+    assert!(c.steps() < b.steps(), "{c:?} vs {b:?}");
+}
+
+/// Bad per-state tolerances are refused, naming the state; the previous ones stay.
+#[test]
+fn bad_per_state_atol_is_refused_naming_the_state() {
+    let mut sim = Simulation::new(&Robertson, Solver::stiff()).unwrap();
+    sim.set_atol(&[1e-8, 1e-12, 1e-8]).unwrap();
+    let err = sim.set_atol(&[1e-8, -1e-12, 1e-8]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "invalid absolute tolerance -1e-12 for state `y2`: expected a finite number >= 0"
+    );
+    let err = sim.set_atol(&[1e-8, 1e-12, f64::NAN]).unwrap_err();
+    assert!(matches!(err, SolverError::InvalidAtol { state: "y3", .. }));
+    let err = sim.set_atol(&[1e-8, 1e-12]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "`atol` has 2 values but the model has 3 states: give one per state, in the order \
+         of Model::STATE_NAMES"
+    );
+    assert_eq!(sim.atol(), Some(&[1e-8, 1e-12, 1e-8][..]));
+    // A zero atol is allowed with rtol > 0, refused with rtol = 0.
+    sim.set_atol(&[0.0, 1e-12, 1e-8]).unwrap();
+    let pure_absolute = Solver::Rodas4(Rodas4Options {
+        rtol: 0.0,
+        ..Default::default()
+    });
+    let mut sim = Simulation::new(&Robertson, pure_absolute).unwrap();
+    let err = sim.set_atol(&[1e-8, 0.0, 1e-8]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "invalid absolute tolerance 0 for state `y2`: expected a number > 0 (rtol is 0)"
+    );
+    // A fixed-step method controls no error.
+    let mut sim = Simulation::new(&Robertson, Solver::Rk4(FixedStep::new(1e-3))).unwrap();
+    let err = sim.set_atol(&[1e-8; 3]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "`set_atol` is not available with rk4: a fixed-step method controls no error"
+    );
+}
