@@ -356,9 +356,11 @@ impl Model for E5 {
 }
 
 /// E5 at `t = 1e13` (Bari test set, problem E5, "Reference solution": RADAU in
-/// quadruple precision, `rtol = h0 = 1.1e-18`, `atol = 1.1e-40`). The test set prints
-/// `y4 = 0`; the invariant gives `y4 = y2 - y3 ≈ 1.28e-25`, below any absolute
-/// tolerance E5 is run with (>= 1e-24, since `y2` and `y3` end near 9e-23).
+/// quadruple precision, `rtol = h0 = 1.1e-18`, `atol = 1.1e-40`). The published `y2`
+/// and `y3` differ by 1.4e-3 relative, although the invariant `y2 - y3 - y4 = 0` and
+/// `y4 ≈ 0` (it decays at rate `C = 1130` once `y1` is gone) make them equal: the
+/// reference is good to about three digits in `y2` and `y3`, and accuracy measured
+/// against it saturates there.
 #[allow(clippy::excessive_precision)]
 pub const E5_REF: [f64; 4] = [
     0.1152903278711829e-290,
