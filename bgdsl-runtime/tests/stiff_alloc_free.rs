@@ -14,8 +14,8 @@ mod pairs;
 use std::time::Duration;
 
 use bgdsl_runtime::{
-    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver,
-    SolverError, Trajectory,
+    Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver, SolverError,
+    Trajectory,
 };
 use pairs::Pairs;
 use stiff_common::{Hires, Oregonator, Robertson};

@@ -226,14 +226,16 @@ fn work_precision_of_the_stiff_methods() {
         }
     }
     let vdp = StiffVanDerPol(1e-12);
-    let tight = Solver::Radau5(Radau5Options {
-        rtol: 1e-12,
-        atol: 1e-12,
+    // Radau5 (with issue 15's tolerance transformation) underflows its step at the
+    // relaxation jump from rtol 1e-11 on; Rodas5P does not.
+    let tight = Solver::Rodas5P(Rodas5POptions {
+        rtol: 1e-11,
+        atol: 1e-11,
         max_steps: 1_000_000,
         ..Default::default()
     });
     let (reference, _) = solve(&vdp, tight, 2.0);
-    header("van der pol, mu = 1e6 to t = 2 (reference: radau5 at rtol = atol = 1e-12)");
+    header("van der pol, mu = 1e6 to t = 2 (reference: rodas5p at rtol = atol = 1e-11)");
     for rtol in [1e-6, 1e-8, 1e-10] {
         for solver in methods(rtol, rtol) {
             row(&vdp, solver, 2.0, &reference, 1);

@@ -97,8 +97,8 @@ impl Solver {
     /// Radau IIA of order 5 with the default options: the recommended method for stiff
     /// models. Measured against [`Solver::Rodas5P`] and [`Solver::Rodas4`] (see
     /// `docs/solvers.md`), it was the fastest at equal accuracy on the flagship (117
-    /// states; by up to 4x, tied at rtol 1e-3), on sparse chains of 500 to 10,000
-    /// states (1.4–2.4x at equal rtol, mostly with the smaller error), and on the Bari
+    /// states; by up to 3.4x, tied at rtol 1e-3), on sparse chains of 500 to 10,000
+    /// states (with one case open: 10,000 states at rtol 1e-3), and on the Bari
     /// test problems from 5–6 correct digits on, mostly because it reuses Jacobians and
     /// LU factors across steps; the Rosenbrock methods win only on small models at
     /// loose tolerances, and on POLLU.
