@@ -217,3 +217,25 @@ fn set_tolerance(solver: &mut Solver, rtol: Option<f64>, atol: Option<f64>) {
         *a = atol;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scenario's tolerances reach every adaptive method, Rodas5P included (a method
+    /// missing from `set_tolerance` would silently keep its defaults).
+    #[test]
+    fn tolerances_reach_every_adaptive_method() {
+        for name in ["dopri5", "radau5", "rodas4", "rodas5p"] {
+            let mut solver = Solver::from_name(name).unwrap();
+            set_tolerance(&mut solver, Some(1e-8), Some(1e-12));
+            let (rtol, atol) = match solver {
+                Solver::DormandPrince(o) => (o.rtol, o.atol),
+                Solver::Radau5(o) => (o.rtol, o.atol),
+                Solver::Rodas4(o) | Solver::Rodas5P(o) => (o.rtol, o.atol),
+                other => panic!("{} is not adaptive", other.name()),
+            };
+            assert_eq!((rtol, atol), (1e-8, 1e-12), "{name}");
+        }
+    }
+}
