@@ -428,9 +428,10 @@ pub struct JacobianEvaluator {
 }
 
 /// The most states for which the stiff solvers look for a dense hand-written
-/// [`Model::jacobian`] (it needs `n × n` storage: 32 MB here); larger models are
-/// differentiated automatically unless they write [`Model::jacobian_sparse`].
-pub const DENSE_HAND_WRITTEN_MAX: usize = 2048;
+/// [`Model::jacobian`]: looking needs `n × n` storage (2 MB here) at set-up, for every
+/// model, whether it has one or not. Larger models are differentiated automatically
+/// (exactly) unless they write [`Model::jacobian_sparse`].
+pub const DENSE_HAND_WRITTEN_MAX: usize = 512;
 
 /// The model's own Jacobian, as found by [`JacobianEvaluator::for_run`].
 #[derive(Clone, Debug)]
