@@ -10,6 +10,9 @@
 //! entry of the one column of the group that the row depends on. The columns are
 //! partitioned into such groups once, at set-up ([`Colouring::greedy`]), and a Jacobian
 //! then costs one directional derivative per group (colour) instead of one per column.
+//! The result is written either dense ([`JacobianEvaluator::evaluate`], `n × n`) or,
+//! entry by entry, into a [`Jacobian`] stored over the pattern
+//! ([`JacobianEvaluator::evaluate_sparse`]: nothing `n × n`, the stiff solvers' way).
 //! The directions are evaluated [`LANES`] at a time, on [`DualN`] numbers: the value,
 //! the branches and the elementary functions of the model are then computed once for
 //! all of them, and the tangents in short vector loops.
