@@ -79,9 +79,17 @@ pub trait Model {
     const JACOBIAN_SPARSITY: Option<&'static [&'static [usize]]> = None;
 
     /// A hand-written Jacobian ∂(dx/dt)/∂x at `(t, x)`, written row-major into `jac`
-    /// (`jac[i * n + j]` = ∂ẋᵢ/∂xⱼ). Return `true` when written; the default returns
-    /// `false`, and the solver then differentiates [`Model::derivatives`] exactly by
-    /// forward-mode automatic differentiation.
+    /// (`jac[i * n + j]` = ∂ẋᵢ/∂xⱼ, every entry). Return `true` when written; the
+    /// default returns `false`, and the solver then differentiates
+    /// [`Model::derivatives`] exactly by forward-mode automatic differentiation.
+    ///
+    /// Dense storage costs `n²`: the stiff solvers look for this Jacobian (by calling it
+    /// once at set-up) only in models of at most 512 states
+    /// (`bgdsl_runtime::DENSE_HAND_WRITTEN_MAX`); larger models should write
+    /// [`Model::jacobian_sparse`]. Without a declared pattern
+    /// ([`Model::JACOBIAN_SPARSITY`]) the stiff solvers detect its non-zeros (at the
+    /// initial state and two nearby states at set-up, then in every Jacobian of a run,
+    /// growing the pattern if a new one appears) and factor it as sparse all the same.
     fn jacobian(&self, t: f64, x: &[f64], jac: &mut [f64]) -> bool {
         let _ = (t, x, jac);
         false
@@ -94,11 +102,7 @@ pub trait Model {
     ///
     /// The stiff solvers prefer it to [`Model::jacobian`]: it needs no `n × n`
     /// storage, so a large model's Jacobian costs memory and time linear in its
-    /// non-zeros. The dense [`Model::jacobian`] is consulted for models of at most
-    /// `DENSE_HAND_WRITTEN_MAX` states
-    /// (2,048); without a declared pattern its non-zeros are detected (at the initial
-    /// state and two nearby states, and whenever a later one has another) and the stiff
-    /// solvers factor it as sparse all the same.
+    /// non-zeros.
     fn jacobian_sparse(&self, t: f64, x: &[f64], values: &mut [f64]) -> bool {
         let _ = (t, x, values);
         false

@@ -11,7 +11,7 @@
 mod chain;
 
 use bgdsl_runtime::{
-    Colouring, Dual, JacobianEvaluator, Model, Scalar, SparsityError, SparsityPattern,
+    Colouring, Dual, Jacobian, JacobianEvaluator, Model, Scalar, SparsityError, SparsityPattern,
 };
 use chain::Chain;
 
@@ -671,12 +671,18 @@ mod evaluator {
         let mut compressed = JacobianEvaluator::new(&model);
         let mut dense = JacobianEvaluator::with_pattern(SparsityPattern::dense(n));
         let (mut jc, mut jd) = (vec![f64::NAN; n * n], vec![f64::NAN; n * n]);
+        let mut stored = Jacobian::new(compressed.pattern().clone().into());
+        let mut js = vec![f64::NAN; n * n];
         let mut rng = Rng(2024);
         for _ in 0..20 {
             let (x, scales) = chain_state(&mut rng);
             let t = rng.uniform(0.0, 1.0);
             assert_eq!(compressed.evaluate(&model, t, &x, &mut jc), 5);
             assert_eq!(dense.evaluate(&model, t, &x, &mut jd), n);
+            // Stored over the pattern: the same numbers, bit for bit.
+            assert_eq!(compressed.evaluate_sparse(&model, t, &x, &mut stored), 5);
+            stored.to_dense(&mut js);
+            assert!(jc.iter().zip(&js).all(|(a, b)| a.to_bits() == b.to_bits()));
             // Bit for bit inside the pattern; +0.0 outside it, where the dense Jacobian
             // may hold −0.0 (checked to be zero just below).
             for (k, (a, b)) in jc.iter().zip(&jd).enumerate() {

@@ -11,12 +11,16 @@ mod stiff_common;
 #[path = "support/pairs.rs"]
 mod pairs;
 
+#[path = "support/large_chains.rs"]
+mod large_chains;
+
 use std::time::Duration;
 
 use bgdsl_runtime::{
     Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation, Solver, SolverError,
     Trajectory,
 };
+use large_chains::{BlockChain, Interleaved, MassChain};
 use pairs::Pairs;
 use stiff_common::{Hires, Oregonator, Robertson};
 
@@ -120,6 +124,11 @@ fn stiff_stepping_allocates_nothing_after_set_up() {
         // test and fall back to partial pivoting.
         count_runs(&Pairs::<true>::new(1e3), solver, 6.0, 601);
         count_runs(&Pairs::<true>::new(1e10), solver, 6.0, 601);
+        // Large models: 10,000 states on the banded path and on the sparse path (whose
+        // fallback band, the whole matrix, is not allocated), dense blocks.
+        count_runs(&Interleaved::<10_000>::default(), solver, 0.02, 11);
+        count_runs(&MassChain::<10_000, 34_996>::default(), solver, 0.02, 11);
+        count_runs(&BlockChain::<2_000>, solver, 0.02, 11);
     }
 
     // A failing run allocates nothing either: the error is plain data.

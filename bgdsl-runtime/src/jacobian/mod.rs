@@ -10,6 +10,9 @@
 //! entry of the one column of the group that the row depends on. The columns are
 //! partitioned into such groups once, at set-up ([`Colouring::greedy`]), and a Jacobian
 //! then costs one directional derivative per group (colour) instead of one per column.
+//! The result is written either dense ([`JacobianEvaluator::evaluate`], `n × n`) or,
+//! entry by entry, into a [`Jacobian`] stored over the pattern
+//! ([`JacobianEvaluator::evaluate_sparse`]: nothing `n × n`, the stiff solvers' way).
 //! The directions are evaluated [`LANES`] at a time, on [`DualN`] numbers: the value,
 //! the branches and the elementary functions of the model are then computed once for
 //! all of them, and the tangents in short vector loops.
@@ -428,9 +431,10 @@ pub struct JacobianEvaluator {
 }
 
 /// The most states for which the stiff solvers look for a dense hand-written
-/// [`Model::jacobian`] (it needs `n × n` storage: 32 MB here); larger models are
-/// differentiated automatically unless they write [`Model::jacobian_sparse`].
-pub const DENSE_HAND_WRITTEN_MAX: usize = 2048;
+/// [`Model::jacobian`]: looking needs `n × n` storage (2 MB here) at set-up, for every
+/// model, whether it has one or not. Larger models are differentiated automatically
+/// (exactly) unless they write [`Model::jacobian_sparse`].
+pub const DENSE_HAND_WRITTEN_MAX: usize = 512;
 
 /// The model's own Jacobian, as found by [`JacobianEvaluator::for_run`].
 #[derive(Clone, Debug)]

@@ -18,8 +18,13 @@
 //!   the band of the pattern in the model's state order; the choice for dense patterns
 //!   and for small or narrow-banded ones, where it is cheaper.
 //!
-//! All storage is allocated at set-up; factoring (analysis included) and solving
-//! allocate nothing.
+//! Storage is linear in the entries of the pattern and of the factors (the band for
+//! the banded code): no `n × n` buffer unless the pattern is dense. It is all allocated
+//! at set-up, and factoring (analysis included) and solving allocate nothing, with two
+//! exceptions: the fallback band of a sparse structure whose band is much wider than
+//! its factors is allocated at the first fallback ([`FALLBACK_BAND_FACTOR`]), and a
+//! Jacobian whose pattern changed ([`Jacobian::generation`]: a hand-written one that
+//! showed a new non-zero) gets new storage.
 
 mod banded;
 mod sparse;

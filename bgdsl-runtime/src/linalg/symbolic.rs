@@ -161,13 +161,20 @@ impl Lists {
         }
         core::mem::swap(&mut self.pool, &mut self.spare);
         self.end = next;
-        if self.end + len <= self.pool.len() {
+        // A growable pool is kept at most half full after compaction, so that
+        // compactions stay rare (a fixed one is sized so at set-up).
+        let limit = if grow {
+            self.pool.len() / 2
+        } else {
+            self.pool.len()
+        };
+        if self.end + len <= limit {
             return Ok(());
         }
         if !grow {
             return Err(TooLarge);
         }
-        let size = (2 * self.pool.len()).max(self.end + len);
+        let size = (2 * self.pool.len()).max(2 * (self.end + len));
         self.pool.resize(size, 0);
         self.spare.resize(size, 0);
         Ok(())

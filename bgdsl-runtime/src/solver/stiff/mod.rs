@@ -11,7 +11,10 @@
 //! step (returning an error estimate, or why it failed), and evaluates its continuous
 //! extension.
 //!
-//! All memory is allocated by [`StiffIntegrator::new`]; stepping allocates nothing.
+//! All memory is allocated by [`StiffIntegrator::new`], linear in the non-zeros of the
+//! Jacobian and of its LU factors for a model that declares its sparsity (the Jacobian
+//! is stored over its pattern, [`Jacobian`]); stepping allocates nothing (but for the
+//! rare cases of [`crate::linalg`]'s documentation).
 
 mod options;
 mod radau;
