@@ -186,7 +186,8 @@ pub enum SolverError {
     /// Sect. II.10 and DOPRI5's `NSTIFF`): the estimate `h |λ|` of where its steps sit
     /// on the stability region's boundary exceeded 3.25 on `steps` accepted steps in
     /// a row (without six non-stiff ones in between), so the steps are limited by
-    /// stability, not accuracy. Turned off by `DormandPrinceOptions::detect_stiffness`.
+    /// stability, not accuracy, and at that step size the run would use up its step
+    /// budget before its end. Turned off by `DormandPrinceOptions::detect_stiffness`.
     StiffnessDetected {
         /// The time reached.
         t: f64,
@@ -196,6 +197,10 @@ pub enum SolverError {
         h_lambda: f64,
         /// The stiff steps in a row counted (at least 15).
         steps: usize,
+        /// The steps still needed to reach the end at that step size.
+        needed: f64,
+        /// The steps left of the budget (`max_steps`), fewer than `needed`.
+        left: usize,
     },
     /// A per-state absolute tolerance ([`Simulation::set_atol`](crate::Simulation::set_atol))
     /// is negative or not finite, or zero where the relative tolerance is zero too.
@@ -543,12 +548,15 @@ impl fmt::Display for SolverError {
                 h,
                 h_lambda,
                 steps,
+                needed,
+                left,
             } => write!(
                 f,
                 "at t = {}, dopri5 found the model stiff: for {steps} steps in a row its \
                  step size ({} s, h|λ| ≈ {h_lambda:.2}) was held by stability, not \
-                 accuracy (Hairer's stiffness test), so it would crawl on with tiny steps; \
-                 use a stiff solver (Solver::stiff(), radau5), or set \
+                 accuracy (Hairer's stiffness test), and at that size the ~{needed:.1e} \
+                 steps still needed exceed the {left} left of its budget; use a stiff \
+                 solver (Solver::stiff(), radau5), or set \
                  `DormandPrinceOptions::detect_stiffness` to false to go on",
                 Num(*t),
                 Num(*h)

@@ -34,9 +34,9 @@ fn robertson_to_1e15_stays_non_negative_and_right() {
     let stats = sim.run(0.0, &x0, &times, &mut traj).unwrap();
     let (rtol, atol) = (1e-6, 1e-9);
     let row = |k: usize| -> Vec<f64> { (0..3).map(|i| traj.state(k, i).unwrap()).collect() };
-    for k in 0..2 {
+    for (k, t) in times.iter().enumerate() {
         let x = row(k);
-        assert!(x.iter().all(|&v| v >= 0.0), "t = {:e}: {x:?}", times[k]);
+        assert!(x.iter().all(|&v| v >= 0.0), "t = {t:e}: {x:?}");
         let mass: f64 = x.iter().sum();
         assert!((mass - 1.0).abs() < 10.0 * atol, "mass {mass}");
     }

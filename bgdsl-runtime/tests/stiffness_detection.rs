@@ -1,7 +1,7 @@
 //! Dormand–Prince detects stiffness (Hairer's test, *Solving ODEs I*, Sect. II.10, as in
-//! DOPRI5): on the stiff problems of the Bari test set it stops after about 1,000 steps,
-//! not its budget of 1,000,000, and says to use a stiff solver; on non-stiff problems it
-//! never fires.
+//! DOPRI5): on stiff problems that would use up its budget of 1,000,000 steps it stops
+//! after about 1,000 and says to use a stiff solver; a stiff run that can finish within
+//! its budget goes on; on non-stiff problems it never fires.
 
 mod stiff_common;
 
@@ -25,27 +25,34 @@ fn dopri5(model: &impl Model, t_end: f64) -> (Result<Stats, SolverError>, Stats)
 }
 
 /// The stiffness test may fail a run once 1,000 steps are accepted (the default
-/// `stiffness_after`), after 15 stiff steps in a row: the stiff Bari problems stop
-/// there, within 1,100 attempted steps, with the stiff steps counted.
+/// `stiffness_after`), after 15 stiff steps in a row, when at the stiff step size the
+/// run would not finish within its budget: Robertson to 1e11 and Van der Pol (μ = 1000)
+/// stop there, within 1,100 attempted steps; the Oregonator, whose stiff phase comes
+/// later, within 3,000 (at t ≈ 23 of 360). HIRES (about 20,000 stability-limited steps
+/// to its end) finishes, with its stiff steps counted.
 #[test]
 fn stiff_problems_stop_early_with_advice() {
     let runs = [
-        ("ROBER", dopri5(&Robertson, 1e11)),
-        ("VDPOL", dopri5(&VanDerPol, 2.0)),
-        ("HIRES", dopri5(&Hires, HIRES_T_END)),
-        ("OREGO", dopri5(&Oregonator, 360.0)),
+        ("ROBER", dopri5(&Robertson, 1e11), 1100),
+        ("VDPOL", dopri5(&VanDerPol, 2.0), 1100),
+        ("OREGO", dopri5(&Oregonator, 360.0), 3000),
     ];
-    for (name, (result, stats)) in runs {
+    for (name, (result, stats), most) in runs {
         let err = result.expect_err(name);
         let SolverError::StiffnessDetected {
-            steps, h_lambda, ..
+            steps,
+            h_lambda,
+            needed,
+            left,
+            ..
         } = err
         else {
             panic!("{name}: expected StiffnessDetected, got {err:?}");
         };
         assert!(steps >= 15 && h_lambda > 3.25, "{name}: {err:?}");
+        assert!(needed > left as f64 && left > 990_000, "{name}: {err:?}");
         assert!(
-            (1000..1100).contains(&stats.accepted) && stats.steps() < 1100,
+            stats.accepted >= 1000 && stats.steps() < most,
             "{name}: {stats:?}"
         );
         assert!(stats.n_stiff_steps >= 15, "{name}: {stats:?}");
@@ -55,6 +62,9 @@ fn stiff_problems_stop_early_with_advice() {
             "{text}"
         );
     }
+    let (result, stats) = dopri5(&Hires, HIRES_T_END);
+    assert_eq!(result.unwrap_or_else(|e| panic!("HIRES: {e}")), stats);
+    assert!(stats.n_stiff_steps > 1000, "HIRES: {stats:?}");
 }
 
 /// The exact message, on Van der Pol (μ = 1000).
@@ -67,6 +77,8 @@ fn the_stiffness_message() {
         h,
         h_lambda,
         steps,
+        needed,
+        left,
     } = err
     else {
         panic!("{err:?}");
@@ -76,9 +88,10 @@ fn the_stiffness_message() {
         format!(
             "at t = {t}, dopri5 found the model stiff: for {steps} steps in a row its step \
              size ({h:e} s, h|λ| ≈ {h_lambda:.2}) was held by stability, not accuracy \
-             (Hairer's stiffness test), so it would crawl on with tiny steps; use a stiff \
-             solver (Solver::stiff(), radau5), or set \
-             `DormandPrinceOptions::detect_stiffness` to false to go on"
+             (Hairer's stiffness test), and at that size the ~{needed:.1e} steps still \
+             needed exceed the {left} left of its budget; use a stiff solver \
+             (Solver::stiff(), radau5), or set `DormandPrinceOptions::detect_stiffness` \
+             to false to go on"
         )
     );
 }
@@ -101,27 +114,39 @@ fn the_test_can_be_turned_off() {
     assert_eq!(sim.stats().n_stiff_steps, 0);
 }
 
-/// A short run on a stiff model (Robertson to t = 0.5, a few hundred steps) finishes:
-/// the stiff steps are counted, but the test fails no run of fewer than
-/// `stiffness_after` steps, and that can be lowered.
+/// A stiff run that can finish (Robertson to t = 100, a few tens of thousands of
+/// stability-limited steps) goes on: the stiff steps are counted, the run succeeds. A
+/// smaller budget makes the same run fail early, and `stiffness_after` can make that
+/// earlier still.
 #[test]
-fn short_runs_finish_and_the_threshold_is_an_option() {
+fn stiff_runs_that_can_finish_go_on() {
     let mut sim = Simulation::new(&Robertson, Solver::dopri5()).unwrap();
-    let stats = sim.run(0.0, &[1.0, 0.0, 0.0], &[0.5], &mut ()).unwrap();
+    let stats = sim.run(0.0, &[1.0, 0.0, 0.0], &[100.0], &mut ()).unwrap();
+    assert!(stats.n_stiff_steps > 1000, "{stats:?}");
+    let small = |stiffness_after| {
+        Solver::DormandPrince(DormandPrinceOptions {
+            max_steps: stats.steps() / 2,
+            stiffness_after,
+            ..Default::default()
+        })
+    };
+    let mut sim = Simulation::new(&Robertson, small(1000)).unwrap();
+    let err = sim
+        .run(0.0, &[1.0, 0.0, 0.0], &[100.0], &mut ())
+        .unwrap_err();
     assert!(
-        stats.n_stiff_steps >= 15 && stats.accepted < 1000,
-        "{stats:?}"
+        matches!(err, SolverError::StiffnessDetected { .. }),
+        "{err:?}"
     );
-    let eager = Solver::DormandPrince(DormandPrinceOptions {
-        stiffness_after: 0,
-        ..Default::default()
-    });
-    let mut sim = Simulation::new(&Robertson, eager).unwrap();
-    let err = sim.run(0.0, &[1.0, 0.0, 0.0], &[0.5], &mut ()).unwrap_err();
-    assert!(matches!(
-        err,
-        SolverError::StiffnessDetected { steps: 15, .. }
-    ));
+    assert!(sim.stats().accepted < 1100, "{:?}", sim.stats());
+    let mut sim = Simulation::new(&Robertson, small(0)).unwrap();
+    let err = sim
+        .run(0.0, &[1.0, 0.0, 0.0], &[100.0], &mut ())
+        .unwrap_err();
+    assert!(
+        matches!(err, SolverError::StiffnessDetected { steps: 15, .. }),
+        "{err:?}"
+    );
     assert!(sim.stats().accepted < 100, "{:?}", sim.stats());
 }
 

@@ -285,12 +285,20 @@ impl<'a, M: Model, S: Storage> Run<'a, M, S> {
                         self.stats.n_stiff_steps += 1;
                         a.non_stiff_in_a_row = 0;
                         a.stiff_in_a_row += 1;
-                        if a.stiff_in_a_row >= STIFF_STEPS && a.accepted >= a.stiffness_after {
+                        // Steps still needed at this step size, against those left.
+                        let needed = (t_end - t_new) / h_try;
+                        let left = a.max_steps.saturating_sub(self.stats.steps());
+                        if a.stiff_in_a_row >= STIFF_STEPS
+                            && a.accepted >= a.stiffness_after
+                            && needed > left as f64
+                        {
                             return Err(SolverError::StiffnessDetected {
                                 t: t_new,
                                 h: h_try,
                                 h_lambda,
                                 steps: a.stiff_in_a_row,
+                                needed,
+                                left,
                             });
                         }
                     } else {

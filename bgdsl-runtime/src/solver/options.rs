@@ -263,8 +263,10 @@ pub struct DormandPrinceOptions {
     /// `h |λ|` (from the two last stages, *Solving ODEs I*, Sect. II.10) is compared
     /// with 3.25, just inside the method's stability boundary; 15 such steps in a row
     /// (without six others in between), once `stiffness_after` steps are accepted,
-    /// mean the step size is held by stability, not accuracy, and the run fails with
-    /// [`SolverError::StiffnessDetected`] instead of crawling through its budget. The
+    /// mean the step size is held by stability, not accuracy. If at that step size the
+    /// run would use up its budget (`max_steps`) before its end, it fails with
+    /// [`SolverError::StiffnessDetected`] instead of crawling through it; a run that
+    /// can finish goes on (a mildly stiff model is cheaper to finish than to redo). The
     /// stiff steps are counted in [`Stats::n_stiff_steps`](crate::Stats). `false`
     /// turns the test off (and the count).
     pub detect_stiffness: bool,

@@ -52,6 +52,7 @@ impl ErrorWeights<'_> {
     }
 
     /// Writes the weights at the state `x` into `w`.
+    #[cfg(feature = "std")]
     pub fn fill(&self, x: &[f64], w: &mut [f64]) {
         for (i, (wi, xi)) in w.iter_mut().zip(x).enumerate() {
             *wi = self.at(i, *xi);
@@ -60,6 +61,7 @@ impl ErrorWeights<'_> {
 
     /// The state whose weight at `x` is the smallest, with that weight (`None` without
     /// states): the state held to the tightest absolute error, for messages.
+    #[cfg(feature = "std")]
     pub fn tightest(&self, x: &[f64]) -> Option<(usize, f64)> {
         (0..x.len())
             .map(|i| (i, self.at(i, x[i])))
@@ -69,6 +71,7 @@ impl ErrorWeights<'_> {
 
 /// The weighted root-mean-square norm `sqrt(mean((v_i / w_i)^2))` of `n` values already
 /// divided by their weights (0 for `n = 0`).
+#[cfg(feature = "std")]
 #[inline]
 pub(crate) fn rms(v: impl Iterator<Item = f64>, n: usize) -> f64 {
     let sum: f64 = v.map(|r| r * r).sum();
