@@ -2,7 +2,8 @@
 # Regenerates docs/work-precision.md: bgdsl's stiff methods (the ignored test
 # bgdsl-runtime/tests/stiff_work_precision.rs, release build), scipy's Radau, BDF and
 # LSODA and SUNDIALS' CVODE (others.py, through scikit-sundae, whose wheels bundle
-# SUNDIALS) on the Bari test-set problems at rtol 1e-3 ... 1e-10. Takes about ten
+# SUNDIALS) on the Bari test-set problems at rtol 1e-3 ... 1e-10, and bgdsl alone on the
+# flagship (models/tests/flagship_work_precision.rs). Takes about ten
 # minutes on two cores (most of it scipy at tight tolerances).
 #
 # Usage: bash docs/work-precision/run.sh          (from anywhere in the repository)
@@ -15,6 +16,9 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 nice -n 10 cargo test --release -p bgdsl-runtime --test stiff_work_precision -- \
     --ignored --nocapture | grep '^WP' > "$tmp/bgdsl.tsv"
+# The flagship (a release build of the models crate: a few minutes the first time).
+nice -n 10 cargo test --release -p models --test flagship_work_precision -- \
+    --ignored --nocapture | grep '^WP' >> "$tmp/bgdsl.tsv"
 (cd "$here" && nice -n 10 python3 others.py) > "$tmp/others.tsv"
 (cd "$here" && python3 report.py "$tmp/bgdsl.tsv" before-issue-15.tsv "$tmp/others.tsv") \
     > docs/work-precision.md
