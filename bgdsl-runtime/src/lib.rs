@@ -64,7 +64,7 @@ pub use event::{
 };
 pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElement};
 #[cfg(feature = "std")]
-pub use jacobian::{Colouring, JacobianEvaluator, SparsityError, SparsityPattern};
+pub use jacobian::{Colouring, Jacobian, JacobianEvaluator, SparsityError, SparsityPattern};
 pub use model::{
     unit_of, BodyInfo, FromParams, InputInfo, Model, ModelError, ParameterInfo, PowerBalance,
     SignalInfo, WithInputs,

@@ -50,10 +50,11 @@ fn dormand_prince_gives_up_where_the_stiff_methods_succeed() {
     for solver in stiff {
         let (x, stats) = solve(&VanDerPol, solver, 2.0);
         assert!(scaled_error(&x, &VDP_REF, rtol, atol) <= 1.0);
-        // Radau5 takes 505 steps since its default `reuse_jacobian_below` went from
-        // 0.001 to 0.03 (494 before: a Jacobian kept longer costs a few more steps; see
-        // `stiff_reference.rs`).
-        let most = if solver.name() == "radau5" { 520 } else { 1100 };
+        // Radau5 takes 606 steps since its tolerance transformation went from
+        // `0.1 rtol^(2/3)` to `0.3 rtol^(4/5)` (issue 15: 505 before, with an end-point
+        // error 4.4 times larger; 494 before `reuse_jacobian_below` went from 0.001 to
+        // 0.03; see `stiff_reference.rs`).
+        let most = if solver.name() == "radau5" { 620 } else { 1100 };
         assert!(stats.steps() <= most, "{}: {stats:?}", solver.name());
     }
 }

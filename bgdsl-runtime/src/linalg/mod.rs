@@ -29,7 +29,7 @@ use std::sync::Arc;
 pub(crate) use banded::{Band, ComplexLu, Lu};
 pub(crate) use sparse::{SparseLu, SparseRadauLu, Structural};
 
-use crate::jacobian::SparsityPattern;
+use crate::jacobian::{Jacobian, SparsityPattern};
 
 /// The factorization met a zero (or non-finite) pivot: the matrix is singular to
 /// working precision, or holds a NaN or an infinity.
@@ -126,9 +126,10 @@ impl RealMatrix {
     pub fn factor(
         &mut self,
         shift: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
     ) -> Result<Factored, Singular> {
+        let jac = jac.values();
         let planned = match &mut self.sparse {
             Some(lu) => {
                 if lu.factor(shift, jac, new_jacobian).is_ok() {
@@ -191,9 +192,10 @@ impl RadauMatrices {
     pub fn factor(
         &mut self,
         shifts: [f64; 3],
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
     ) -> Result<Factored, Singular> {
+        let jac = jac.values();
         let [gamma, alpha, beta] = shifts;
         let planned = match &mut self.sparse {
             Some(lu) => {
@@ -290,8 +292,10 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
         for (w, expected) in [(1e12, Factored::FellBack), (2.0, Factored::AsPlanned)] {
             let jac = jacobian(w);
-            assert_eq!(real.factor(1.0, &jac, true), Ok(expected), "w = {w}");
-            assert_eq!(pair.factor([1.0, 0.5, 0.25], &jac, true), Ok(expected));
+            let mut stored = Jacobian::new(SparsityPattern::dense(n).into());
+            stored.values_mut().copy_from_slice(&jac);
+            assert_eq!(real.factor(1.0, &stored, true), Ok(expected), "w = {w}");
+            assert_eq!(pair.factor([1.0, 0.5, 0.25], &stored, true), Ok(expected));
             // Residuals of (σ I - J) x = b.
             let residual = |shift: (f64, f64), x: (&[f64], &[f64]), k: usize| {
                 let m = n - 1 - k;

@@ -325,6 +325,7 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
                     t: &mut *t,
                     x: &mut x[..],
                     stats: &mut work,
+                    atol: None,
                 };
                 let on_grid = run.fixed_step(&mut grid, t_end)?;
                 let t_b = *t;
@@ -490,6 +491,7 @@ impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
                 t: &mut *t,
                 x: &mut x[..],
                 stats: &mut work,
+                atol: None,
             };
             let (adaptive, hybrid) = (&mut self.adaptive, &mut self.hybrid);
             adaptive_steps(&mut run, adaptive, &self.options, t_end, once, hybrid)

@@ -7,6 +7,7 @@
 use super::explicit::{non_finite, ExplicitRk, NonFinite, Storage};
 use super::options::{DormandPrinceOptions, FixedStep};
 use super::stats::Stats;
+use super::weights::{Atol, ErrorWeights};
 use crate::error::SolverError;
 use crate::math;
 use crate::model::{Model, ModelError};
@@ -24,6 +25,9 @@ pub(crate) struct Run<'a, M, S: Storage> {
     pub t: &'a mut f64,
     pub x: &'a mut [f64],
     pub stats: &'a mut Stats,
+    /// One absolute tolerance per state, overriding the options' `atol` (the driver's
+    /// [`Simulation::set_atol`](crate::Simulation::set_atol)); `None` for the options'.
+    pub atol: Option<&'a [f64]>,
 }
 
 /// The grid `t0 + k * h` of a fixed-step method, and its step budget.
@@ -77,6 +81,18 @@ pub(crate) struct Adaptive {
 }
 
 impl<M: Model, S: Storage> Run<'_, M, S> {
+    /// The error weights of adaptive steps with tolerances `rtol` and (unless the run
+    /// has its own per state) `atol`.
+    fn weights(&self, rtol: f64, atol: f64) -> ErrorWeights<'_> {
+        ErrorWeights {
+            rtol,
+            atol: match self.atol {
+                Some(each) => Atol::Each(each),
+                None => Atol::All(atol),
+            },
+        }
+    }
+
     /// One fixed step on `grid` from the current time towards `ts` (which is later): a
     /// step that would pass `ts` is shortened to end on it, and a grid point within
     /// `1e-9` steps (or `8 ε |ts|`) of `ts` is taken to be `ts`. Returns whether it
@@ -128,19 +144,18 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
     pub fn start_adaptive(&mut self, o: &DormandPrinceOptions) -> Result<Adaptive, SolverError> {
         self.prepare()?;
         let (t, x) = (*self.t, &*self.x);
+        let w = ErrorWeights {
+            rtol: o.rtol,
+            atol: match self.atol {
+                Some(each) => Atol::Each(each),
+                None => Atol::All(o.atol),
+            },
+        };
         let h = match o.initial_step {
             Some(h) => h.min(o.max_step),
             None => self
                 .kernel
-                .initial_step(
-                    self.model,
-                    t,
-                    x,
-                    o.rtol,
-                    o.atol,
-                    o.max_step,
-                    &mut self.stats.n_rhs,
-                )
+                .initial_step(self.model, t, x, &w, o.max_step, &mut self.stats.n_rhs)
                 .map_err(non_finite::<M>)?,
         };
         Ok(Adaptive {
@@ -209,7 +224,9 @@ impl<M: Model, S: Storage> Run<'_, M, S> {
                 continue;
             }
             failure = None;
-            let err = self.kernel.error_norm(self.x, h_try, a.rtol, a.atol);
+            let err = self
+                .kernel
+                .error_norm(self.x, h_try, &self.weights(a.rtol, a.atol));
             if err <= 1.0 {
                 self.stats.accepted += 1;
                 self.kernel.accept(t, t_new, self.x, dense(t_new));

@@ -74,6 +74,9 @@ pub struct Simulation<'m, M: Model> {
     x_start: Vec<f64>,
     /// The next run continues the last one's events ([`Simulation::continue_events`]).
     resume_events: bool,
+    /// One absolute tolerance per state ([`Simulation::set_atol`]); `None` for the
+    /// solver options' `atol`.
+    atol: Option<Vec<f64>>,
 }
 
 /// What a run does after a step, once its events are handled.
@@ -265,6 +268,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             events: Events::new::<M>(),
             x_start: vec![0.0; n],
             resume_events: false,
+            atol: None,
         })
     }
 
@@ -535,6 +539,7 @@ impl<'m, M: Model> Simulation<'m, M> {
             t: &mut self.t,
             x: &mut self.x,
             stats: &mut self.stats,
+            atol: self.atol.as_deref(),
         }
     }
 

@@ -22,6 +22,7 @@
 use core::fmt::Debug;
 
 use super::tableau::Tableau;
+use super::weights::{scaled, ErrorWeights};
 use crate::error::{NonFiniteKind, SolverError};
 use crate::math;
 use crate::model::{Model, ModelError};
@@ -208,9 +209,9 @@ impl<S: Storage> ExplicitRk<S> {
     }
 
     /// The embedded error estimate of the last attempted step of length `h`, in the norm
-    /// `sqrt(mean((err_i / (atol + rtol * max(|x_i|, |x_new_i|)))^2))`; `0` for a
+    /// `sqrt(mean((err_i / (atol_i + rtol * max(|x_i|, |x_new_i|)))^2))`; `0` for a
     /// method without an embedded formula.
-    pub fn error_norm(&self, x: &[f64], h: f64, rtol: f64, atol: f64) -> f64 {
+    pub fn error_norm(&self, x: &[f64], h: f64, w: &ErrorWeights<'_>) -> f64 {
         let Some(est) = &self.tableau.error else {
             return 0.0;
         };
@@ -227,7 +228,7 @@ impl<S: Storage> ExplicitRk<S> {
                     e += w * k.as_ref()[i];
                 }
             }
-            let r = scaled(h * e, atol + rtol * x[i].abs().max(x_new[i].abs()));
+            let r = scaled(h * e, w.over(i, x[i], x_new[i]));
             sum += r * r;
         }
         math::sqrt(sum / n as f64)
@@ -287,14 +288,12 @@ impl<S: Storage> ExplicitRk<S> {
     /// ("Starting step size", steps (a)–(f)), in the error norm of
     /// [`ExplicitRk::error_norm`], for a method whose error estimate is
     /// `O(h^(q + 1))`. Needs [`ExplicitRk::prepare`] first; costs one evaluation.
-    #[allow(clippy::too_many_arguments)]
     pub fn initial_step<M: Model>(
         &mut self,
         model: &M,
         t: f64,
         x: &[f64],
-        rtol: f64,
-        atol: f64,
+        w: &ErrorWeights<'_>,
         max_step: f64,
         n_rhs: &mut usize,
     ) -> Result<f64, NonFinite> {
@@ -306,7 +305,7 @@ impl<S: Storage> ExplicitRk<S> {
         let n = x.len().max(1) as f64;
         let norm = |v: &dyn Fn(usize) -> f64| {
             let sum: f64 = (0..x.len())
-                .map(|i| math::powi(scaled(v(i), atol + rtol * x[i].abs()), 2))
+                .map(|i| math::powi(scaled(v(i), w.at(i, x[i])), 2))
                 .sum();
             math::sqrt(sum / n)
         };
@@ -340,18 +339,6 @@ impl<S: Storage> ExplicitRk<S> {
         let h = (100.0 * h0).min(h1).min(max_step);
         // A zero scale (atol = 0 at a zero state) can make the estimate degenerate.
         Ok(if h.is_finite() && h > 0.0 { h } else { h0 })
-    }
-}
-
-/// `v / scale`, where a zero scale (pure relative tolerance at a zero state) makes a
-/// zero `v` zero and any other `v` infinite.
-fn scaled(v: f64, scale: f64) -> f64 {
-    if scale > 0.0 {
-        v / scale
-    } else if v == 0.0 {
-        0.0
-    } else {
-        f64::INFINITY
     }
 }
 

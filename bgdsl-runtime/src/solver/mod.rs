@@ -35,6 +35,7 @@ mod stiff;
 #[cfg(feature = "std")]
 pub mod stiffness;
 pub(crate) mod tableau;
+pub(crate) mod weights;
 
 #[cfg(feature = "std")]
 pub use driver::{sample_times_uniform, simulate, Simulation};

@@ -22,8 +22,9 @@ use super::control::min_step;
 pub(crate) use super::explicit::eval;
 use super::explicit::{check_state, non_finite, NonFinite};
 use super::stats::Stats;
+use super::weights::{scaled, Tolerances};
 use crate::error::SolverError;
-use crate::jacobian::JacobianEvaluator;
+use crate::jacobian::{Jacobian, JacobianEvaluator, SparsityPattern};
 use crate::linalg::{Factored, Singular, Structure};
 use crate::model::{Model, ModelError};
 
@@ -84,16 +85,21 @@ pub(crate) trait ImplicitMethod {
     /// order `q`.
     const ERROR_EXPONENT: f64;
 
+    /// Sets the tolerances the method's error norm (and Newton stopping test) is
+    /// measured in: the user's, which the method may transform (Radau5 does).
+    fn set_tolerances(&mut self, tol: &Tolerances);
+
     /// Forgets the previous steps: a new run starts.
     fn restart(&mut self);
 
-    /// Factors the iteration matrices for step size `h` and Jacobian `jac` (row-major),
-    /// which may differ from the last call's only if `new_jacobian`; counts the LU
-    /// factorizations done in `count`.
+    /// Factors the iteration matrices for step size `h` and Jacobian `jac`, which may
+    /// differ from the last call's only if `new_jacobian` (its pattern may have changed
+    /// only then too: see [`Jacobian::generation`]); counts the LU factorizations done
+    /// in `count`.
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular>;
@@ -148,9 +154,11 @@ const MAX_SINGULAR: usize = 5;
 pub(crate) struct StiffIntegrator<S> {
     method: S,
     settings: Common,
+    /// The user's tolerances (the method keeps its own, possibly transformed, copy).
+    tol: Tolerances,
     evaluator: JacobianEvaluator,
-    /// The Jacobian, row-major.
-    jac: Vec<f64>,
+    /// The Jacobian.
+    jac: Jacobian,
     /// `∂f/∂t` (empty unless the method needs it).
     dfdt: Vec<f64>,
     /// `f(t, x)` at the current point.
@@ -194,8 +202,9 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         StiffIntegrator {
             method: make(&structure),
             settings,
+            tol: Tolerances::uniform(settings.rtol, settings.atol, n),
             evaluator,
-            jac: vec![0.0; n * n],
+            jac: Jacobian::new(SparsityPattern::dense(n).into()),
             dfdt: vec![0.0; if S::NEEDS_DFDT { n } else { 0 }],
             f0: vec![0.0; n],
             f_new: vec![0.0; n],
@@ -460,13 +469,13 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         let n = x.len();
         let derivatives = self
             .evaluator
-            .evaluate_numerical(model, t, x, &mut self.jac);
+            .evaluate_numerical(model, t, x, self.jac.values_mut());
         stats.n_jac_rhs += derivatives;
         stats.n_jac += 1;
         // The first non-finite entry, row by row. Differentiation writes only the
         // entries of a sparse pattern (the rest stay zero): only those are looked at.
         let pattern = self.evaluator.pattern();
-        let jac = &self.jac;
+        let jac = self.jac.values();
         let non_finite = if derivatives > 0 && !pattern.is_dense() {
             (0..n).find_map(|i| {
                 let j = pattern
@@ -487,7 +496,7 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
                 t,
                 state: name(k / n),
                 wrt: name(k % n),
-                value: self.jac[k],
+                value: jac[k],
             });
         }
         if S::NEEDS_DFDT {
@@ -535,11 +544,11 @@ impl<S: ImplicitMethod> StiffIntegrator<S> {
         x: &[f64],
         n_rhs: &mut usize,
     ) -> Result<f64, NonFinite> {
-        let (rtol, atol) = (self.settings.rtol, self.settings.atol);
+        let w = self.tol.weights();
         let count = x.len().max(1) as f64;
         let norm = |v: &dyn Fn(usize) -> f64| {
             let sum: f64 = (0..x.len())
-                .map(|i| (v(i) / (atol + rtol * x[i].abs())).powi(2))
+                .map(|i| scaled(v(i), w.at(i, x[i])).powi(2))
                 .sum();
             (sum / count).sqrt()
         };
@@ -632,11 +641,4 @@ impl StiffKernel {
             StiffKernel::Rosenbrock(k) => k.interpolate(t, out),
         }
     }
-}
-
-/// The root-mean-square `sqrt(sum(v_i^2) / n)` of `n` values (already divided by
-/// their error weights).
-pub(crate) fn rms(v: impl Iterator<Item = f64>, n: usize) -> f64 {
-    let sum: f64 = v.map(|r| r * r).sum();
-    (sum / n.max(1) as f64).sqrt()
 }

@@ -14,9 +14,11 @@
 //! Newton iteration. The continuous extension is
 //! `u(θ) = (1 - θ) x + θ (x_new + (1 - θ) (sum d2_j u_j + θ sum d3_j u_j))`.
 
-use super::{eval, rms, Attempt, ImplicitMethod, LuCount, StepStart};
+use super::{eval, Attempt, ImplicitMethod, LuCount, StepStart};
+use crate::jacobian::Jacobian;
 use crate::linalg::{RealMatrix, Singular, Structure};
 use crate::model::Model;
+use crate::solver::weights::{rms, scaled, Tolerances};
 
 /// A Rosenbrock method with `s` stages in the `u` variables above.
 #[derive(Debug)]
@@ -115,8 +117,7 @@ pub(crate) const RODAS4: RosenbrockTableau = RosenbrockTableau {
 #[derive(Debug)]
 pub(crate) struct Rosenbrock {
     tab: &'static RosenbrockTableau,
-    rtol: f64,
-    atol: f64,
+    tol: Tolerances,
     safety: f64,
     /// `1/(h γ) I - J`, factored.
     lu: RealMatrix,
@@ -147,8 +148,7 @@ impl Rosenbrock {
         let v = || vec![0.0; n];
         Rosenbrock {
             tab,
-            rtol,
-            atol,
+            tol: Tolerances::uniform(rtol, atol, n),
             safety,
             lu: RealMatrix::new(structure),
             u: (0..tab.alpha.len()).map(|_| v()).collect(),
@@ -167,6 +167,10 @@ impl ImplicitMethod for Rosenbrock {
     /// The embedded method has order 3: the estimate is `O(h^4)`.
     const ERROR_EXPONENT: f64 = 0.25;
 
+    fn set_tolerances(&mut self, tol: &Tolerances) {
+        self.tol.clone_from(tol);
+    }
+
     fn restart(&mut self) {
         self.lu.restart();
     }
@@ -174,7 +178,7 @@ impl ImplicitMethod for Rosenbrock {
     fn factor(
         &mut self,
         h: f64,
-        jac: &[f64],
+        jac: &Jacobian,
         new_jacobian: bool,
         count: &mut LuCount,
     ) -> Result<(), Singular> {
@@ -237,13 +241,13 @@ impl ImplicitMethod for Rosenbrock {
                 *xn += m * uj;
             }
         }
-        let (rtol, atol) = (self.rtol, self.atol);
+        let w = self.tol.weights();
         let u = &self.u;
         let x_new = &self.x_new;
         let err = rms(
             (0..n).map(|i| {
                 let e: f64 = tab.e.iter().zip(u).map(|(w, uj)| w * uj[i]).sum();
-                e / (atol + rtol * x[i].abs().max(x_new[i].abs()))
+                scaled(e, w.over(i, x[i], x_new[i]))
             }),
             n,
         );

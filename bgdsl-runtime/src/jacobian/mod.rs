@@ -58,7 +58,11 @@
 //! assert_eq!(jac, [-6.0, 0.0, 0.0, 1.0]);
 //! ```
 
+mod matrix;
+
 use core::fmt;
+
+pub use matrix::Jacobian;
 
 use crate::dual::{Dual, DualN};
 
@@ -235,6 +239,20 @@ impl SparsityPattern {
             &self.columns
         } else {
             &self.columns[self.row_start[i]..self.row_start[i + 1]]
+        }
+    }
+
+    /// Where row `i`'s entries are in the pattern's order (row by row): the range of
+    /// their positions among the pattern's [`SparsityPattern::nnz`] entries.
+    ///
+    /// # Panics
+    /// If `i >= n`.
+    pub fn row_range(&self, i: usize) -> core::ops::Range<usize> {
+        assert!(i < self.n, "row {i} out of range for {} rows", self.n);
+        if self.dense {
+            i * self.n..(i + 1) * self.n
+        } else {
+            self.row_start[i]..self.row_start[i + 1]
         }
     }
 
