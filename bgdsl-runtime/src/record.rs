@@ -568,7 +568,7 @@ impl ExactDecimal {
         }
         let mut up = self.digits / 10 + 1;
         let mut p = self.exponent + 1;
-        while up % 10 == 0 {
+        while up.is_multiple_of(10) {
             up /= 10;
             p += 1;
         }
@@ -621,12 +621,9 @@ fn shortest_digits(text: &str) -> (Digits, i32) {
     for &b in mantissa.as_bytes() {
         match b {
             b'.' => seen_point = true,
-            b'0' if digits.len == 0 => {
-                // A leading zero: after the point it moves the point left.
-                if seen_point {
-                    point -= 1;
-                }
-            }
+            // A leading zero after the point moves the point left.
+            b'0' if digits.len == 0 && seen_point => point -= 1,
+            b'0' if digits.len == 0 => {}
             b'0'..=b'9' => {
                 if digits.len < digits.bytes.len() {
                     digits.bytes[digits.len] = b;
