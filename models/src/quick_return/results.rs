@@ -301,6 +301,7 @@ impl Recorder for Results {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bgdsl_runtime::record::write_number;
     use bgdsl_runtime::Scalar;
 
     /// A stand-in model with every column as an output (in reverse order, plus one
