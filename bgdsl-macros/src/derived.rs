@@ -346,4 +346,33 @@ mod should {
             "a marker left in {code}"
         );
     }
+
+    /// A product whose left factor is a matrix is the runtime's written-out product
+    /// (fast on dual numbers); a scalar times a vector, and a constant product, stay
+    /// as written (the constant one computed once, in `f64`).
+    #[test]
+    fn write_matrix_products_out() {
+        let code = expanded(
+            "model M {
+                param m = 2.0; param k = 3.0;
+                param R0: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                state R: Matrix3 = R0;
+                der R = skew(w.f) * R;
+                I[3] body { f = R * (R.transpose() * p) / m };
+                C[3] spring = k;
+                1 w; w -> { body, spring };
+                output turned: Vector3 = R0 * vec3(1.0, 0.0, 0.0);
+                output scaled: Vector3 = k * body.p;
+            }",
+        );
+        let derivatives = function(&code, "derivatives");
+        assert_eq!(
+            derivatives.matches("MatMul :: mat_mul").count(),
+            3,
+            "{derivatives}"
+        );
+        let outputs = function(&code, "outputs");
+        assert!(outputs.contains("= k * __x"), "{outputs}");
+        assert!(function(&code, "__derive").contains("R0 * vec3"), "{code}");
+    }
 }

@@ -243,6 +243,15 @@ impl VisitMut for FloatOperands {
     }
 }
 
+/// `left * right` for a `left` known to be a matrix, as the runtime's product written
+/// out entry by entry (`MatMul::mat_mul`): nalgebra's generic product is several
+/// times slower on dual numbers (see `bgdsl_runtime::multibond::mat_mul`).
+pub fn matrix_product(left: &Expr, right: &Expr) -> Expr {
+    let span = left.span();
+    Expr::Verbatim(quote_spanned!(span=>
+        ::bgdsl_runtime::multibond::MatMul::mat_mul(#left, #right)))
+}
+
 /// A span for generated names the user's text cannot reach.
 pub fn hidden_span(at: Span) -> Span {
     Span::mixed_site().located_at(at)

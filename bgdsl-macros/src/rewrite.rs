@@ -655,6 +655,15 @@ fn int_to_float(expr: &mut Expr) {
 }
 
 impl Rewriter<'_, '_> {
+    /// Whether `expr` (not yet rewritten) is known to be a matrix.
+    fn is_matrix(&self, expr: &Expr) -> bool {
+        let env = Env {
+            scope: self.scope,
+            locals: &self.locals,
+        };
+        matches!(crate::shapes::shape(expr, &env), Some(Shape::Matrix(..)))
+    }
+
     /// Replaces `expr` by a hoisting marker if it is a parameter expression worth
     /// hoisting where a number goes (see [`crate::hoist`]).
     fn hoisted(&mut self, expr: &mut Expr) -> bool {
@@ -762,8 +771,12 @@ impl Rewriter<'_, '_> {
                     int_to_float(&mut binary.left);
                     int_to_float(&mut binary.right);
                 }
+                let matrix_product = matches!(binary.op, Mul(_)) && self.is_matrix(&binary.left);
                 self.visit_at(&mut binary.left, numeric);
                 self.visit_at(&mut binary.right, numeric);
+                if matrix_product {
+                    *expr = crate::hoist::matrix_product(&binary.left, &binary.right);
+                }
             }
             Expr::Unary(unary) => {
                 let numeric = matches!(unary.op, syn::UnOp::Neg(_));

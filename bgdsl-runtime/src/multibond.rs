@@ -22,28 +22,33 @@ pub type Vector3<S> = SVector<S, 3>;
 pub type Matrix3<S> = SMatrix<S, 3, 3>;
 
 /// The vector `(x, y, z)`.
+#[inline]
 pub fn vec3<S: Scalar>(x: S, y: S, z: S) -> Vector3<S> {
     Vector3::new(x, y, z)
 }
 
 /// The diagonal matrix `diag(a, b, c)`, e.g. a stiffness free along x.
+#[inline]
 pub fn diag3<S: Scalar>(a: S, b: S, c: S) -> Matrix3<S> {
     let zero = S::from_f64(0.0);
     Matrix3::new(a, zero, zero, zero, b, zero, zero, zero, c)
 }
 
 /// The 3×3 identity.
+#[inline]
 pub fn identity3<S: Scalar>() -> Matrix3<S> {
     diag3(S::from_f64(1.0), S::from_f64(1.0), S::from_f64(1.0))
 }
 
 /// The skew-symmetric matrix of `a`: `skew(a) * b == a × b`.
+#[inline]
 pub fn skew<S: Scalar>(a: Vector3<S>) -> Matrix3<S> {
     let zero = S::from_f64(0.0);
     Matrix3::new(zero, -a.z, a.y, a.z, zero, -a.x, -a.y, a.x, zero)
 }
 
 /// A rotation by `angle` (radians, counter-clockwise) about the z-axis.
+#[inline]
 pub fn rot_z<S: Scalar>(angle: S) -> Matrix3<S> {
     let (s, c) = (angle.sin(), angle.cos());
     let (zero, one) = (S::from_f64(0.0), S::from_f64(1.0));
@@ -52,6 +57,7 @@ pub fn rot_z<S: Scalar>(angle: S) -> Matrix3<S> {
 
 /// The principal moments of inertia of a solid box of mass `m` and edge lengths
 /// `lx`, `ly`, `lz` about its centre: `m (ly² + lz²) / 12`, and so on.
+#[inline]
 pub fn box_inertia<S: Scalar>(m: S, lx: S, ly: S, lz: S) -> Vector3<S> {
     let twelfth = S::from_f64(1.0 / 12.0);
     vec3(
@@ -62,6 +68,7 @@ pub fn box_inertia<S: Scalar>(m: S, lx: S, ly: S, lz: S) -> Vector3<S> {
 }
 
 /// A parameter vector (`[f64; N]` in the parameter struct) in the scalar type.
+#[inline]
 pub fn vector_param<S: Scalar, const N: usize>(value: &[f64; N]) -> SVector<S, N> {
     SVector::from_fn(|i, _| S::from_f64(value[i]))
 }
@@ -71,6 +78,65 @@ pub fn matrix_param<S: Scalar, const R: usize, const C: usize>(
     value: &[[f64; C]; R],
 ) -> SMatrix<S, R, C> {
     SMatrix::from_fn(|i, j| S::from_f64(value[i][j]))
+}
+
+/// The product `a b` of an `R`×`K` matrix and a `K`×`C` matrix (a vector is `K`×1),
+/// written out entry by entry: `sum_k a[(i, k)] b[(k, j)]`, `k` in increasing order.
+///
+/// For `f64` it is nalgebra's product bit for bit (the same sums in the same order);
+/// for dual numbers it is much cheaper: nalgebra's generic product computes
+/// `a x · 1 + 1 · y` per term through an out-of-line loop, which costs a dual number
+/// three multiplications where one suffices. The macro writes `mat_mul` for every
+/// product whose left factor it knows to be a matrix (see [`MatMul`]).
+#[inline(always)]
+pub fn mat_mul<S: Scalar, const R: usize, const K: usize, const C: usize>(
+    a: &SMatrix<S, R, K>,
+    b: &SMatrix<S, K, C>,
+) -> SMatrix<S, R, C> {
+    // Built in place (nalgebra's `from_fn` is not always inlined for dual numbers).
+    let (a, b) = (&a.data.0, &b.data.0);
+    let mut out = [[S::zero(); R]; C];
+    for (j, column) in out.iter_mut().enumerate() {
+        for (i, entry) in column.iter_mut().enumerate() {
+            if K > 0 {
+                // Column-major storage: `a[(i, k)]` is `a[k][i]`.
+                let mut sum = a[0][i] * b[j][0];
+                for k in 1..K {
+                    sum += a[k][i] * b[j][k];
+                }
+                *entry = sum;
+            }
+        }
+    }
+    SMatrix::from_array_storage(nalgebra::ArrayStorage(out))
+}
+
+/// `self * rhs` for a matrix `self`: [`mat_mul`] when `rhs` is a matrix or a vector,
+/// nalgebra's scaling when it is a number. Generated code calls
+/// `MatMul::mat_mul(a, b)` for a law's `a * b` when `a` is a matrix.
+pub trait MatMul<Rhs> {
+    /// The product's type.
+    type Output;
+    /// `self * rhs`.
+    fn mat_mul(self, rhs: Rhs) -> Self::Output;
+}
+
+impl<S: Scalar, const R: usize, const K: usize, const C: usize> MatMul<SMatrix<S, K, C>>
+    for SMatrix<S, R, K>
+{
+    type Output = SMatrix<S, R, C>;
+    #[inline(always)]
+    fn mat_mul(self, rhs: SMatrix<S, K, C>) -> SMatrix<S, R, C> {
+        mat_mul(&self, &rhs)
+    }
+}
+
+impl<S: Scalar, const R: usize, const C: usize> MatMul<S> for SMatrix<S, R, C> {
+    type Output = SMatrix<S, R, C>;
+    #[inline(always)]
+    fn mat_mul(self, rhs: S) -> SMatrix<S, R, C> {
+        self * rhs
+    }
 }
 
 /// How a linear coefficient acts on an n-dimensional bond variable: a number scales
@@ -88,6 +154,7 @@ pub trait Linear<S: Scalar, const N: usize> {
 }
 
 impl<S: Scalar, const N: usize> Linear<S, N> for S {
+    #[inline(always)]
     fn apply(&self, v: SVector<S, N>) -> SVector<S, N> {
         v * *self
     }
@@ -103,11 +170,13 @@ impl<S: Scalar, const N: usize> Linear<S, N> for S {
 }
 
 impl<S: Scalar, const N: usize> Linear<S, N> for SMatrix<S, N, N> {
+    #[inline(always)]
     fn apply(&self, v: SVector<S, N>) -> SVector<S, N> {
-        self * v
+        mat_mul(self, &v)
     }
+    #[inline(always)]
     fn apply_transpose(&self, v: SVector<S, N>) -> SVector<S, N> {
-        self.transpose() * v
+        mat_mul(&self.transpose(), &v)
     }
     fn solve(&self, v: SVector<S, N>) -> SVector<S, N> {
         solve(*self, v)
@@ -182,9 +251,11 @@ pub trait StateValue<S: Scalar>: Sized {
 
 impl<S: Scalar> StateValue<S> for S {
     const LEN: usize = 1;
+    #[inline(always)]
     fn read(x: &[S]) -> Self {
         x[0]
     }
+    #[inline(always)]
     fn write(&self, out: &mut [S]) {
         out[0] = *self;
     }
@@ -192,9 +263,11 @@ impl<S: Scalar> StateValue<S> for S {
 
 impl<S: Scalar, const R: usize, const C: usize> StateValue<S> for SMatrix<S, R, C> {
     const LEN: usize = R * C;
+    #[inline(always)]
     fn read(x: &[S]) -> Self {
         SMatrix::from_column_slice(x)
     }
+    #[inline(always)]
     fn write(&self, out: &mut [S]) {
         out.copy_from_slice(self.as_slice());
     }
@@ -243,6 +316,37 @@ mod tests {
             inverse_residual::<f64, 3>(&2.0, &0.25),
             0.5 * 3.0_f64.sqrt()
         );
+    }
+
+    /// `mat_mul` is nalgebra's product bit for bit in `f64`, and on dual numbers its
+    /// values are the `f64` product's and its tangents the product rule's.
+    #[test]
+    fn the_written_out_product_is_nalgebras() {
+        let a = Matrix3::new(0.3, -1.2, 2.0, 4.0, 0.5, -0.7, 1e-3, 7.5, -2.25);
+        let b = Matrix3::new(1.1, 0.2, -0.3, -4.0, 0.25, 9.0, 3.0, -0.6, 0.01);
+        let v = vec3(0.7, -0.1, 2.5);
+        assert_eq!(mat_mul(&a, &b), a * b);
+        assert_eq!(mat_mul(&a, &v), a * v);
+        assert_eq!(MatMul::mat_mul(a.transpose(), v), a.transpose() * v);
+        assert_eq!(MatMul::mat_mul(a, 2.5), a * 2.5);
+        let row = SMatrix::<f64, 1, 3>::new(1.0, 2.0, 3.0);
+        assert_eq!(mat_mul(&v, &row), v * row);
+        // d(A(s) B(s))/ds = A' B + A B' along A(s) = A + s A', B(s) = B + s B'.
+        use crate::dual::DualN;
+        let (da, db) = (skew(vec3(1.0, -2.0, 0.5)), identity3::<f64>() * 3.0);
+        let dual = |m: Matrix3<f64>, d: Matrix3<f64>| {
+            Matrix3::from_fn(|i, j| DualN::<2>::new(m[(i, j)], [d[(i, j)], -d[(i, j)]]))
+        };
+        let product = mat_mul(&dual(a, da), &dual(b, db));
+        let tangent = da * b + a * db;
+        for i in 0..3 {
+            for j in 0..3 {
+                let p = product[(i, j)];
+                assert_eq!(p.value(), (a * b)[(i, j)]);
+                assert!((p.tangents()[0] - tangent[(i, j)]).abs() < 1e-13);
+                assert!((p.tangents()[1] + tangent[(i, j)]).abs() < 1e-13);
+            }
+        }
     }
 
     #[test]

@@ -36,6 +36,11 @@
 //! | (b) before | 106 ms | 459 | 3319 | 274 (20550) | 842 | 3.8e-4 |
 //! | (b) after | 17–18 ms | 461 | 3466 | 189 (5963) | 816 | 3.8e-4 |
 //!
+//! Issue 15 (matrix products written out for dual numbers, the CSV through `ryu`, h4's
+//! tolerance change): see `docs/flagship-speed.md`, measured in thread CPU time with
+//! `models/examples/flagship_profile.rs` because the shared machine's wall times varied
+//! 3x during that work.
+//!
 //! The hand-written model declares no pattern, so it keeps the banded (here dense)
 //! linear algebra and uncompressed Jacobians: (a) 141 → 110 ms, (b) 78 → 65 ms (its
 //! Jacobians evaluate four directions per call of the model, and are kept longer).

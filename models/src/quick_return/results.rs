@@ -17,7 +17,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use bgdsl_runtime::record::{write_atomically, write_number};
+use bgdsl_runtime::record::{write_atomically, RowWriter};
 use bgdsl_runtime::{CsvStage, Model, Recorder};
 
 use super::run::{Error, IoStage};
@@ -249,14 +249,9 @@ impl Results {
     pub fn write_csv_to<W: Write>(&self, mut out: W) -> io::Result<()> {
         out.write_all(header().as_bytes())?;
         out.write_all(b"\n")?;
+        let mut rows = RowWriter::new();
         for row in 0..self.len() {
-            for (i, column) in self.columns.iter().enumerate() {
-                if i > 0 {
-                    out.write_all(b",")?;
-                }
-                write_number(&mut out, column[row])?;
-            }
-            out.write_all(b"\n")?;
+            rows.write_row(&mut out, self.columns.iter().map(|column| column[row]))?;
         }
         out.flush()
     }
@@ -306,6 +301,7 @@ impl Recorder for Results {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bgdsl_runtime::record::write_number;
     use bgdsl_runtime::Scalar;
 
     /// A stand-in model with every column as an output (in reverse order, plus one
