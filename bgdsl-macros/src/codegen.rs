@@ -159,6 +159,29 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             write
         })
         .collect();
+    // A large model's evaluation is split into chunk methods the three share.
+    let (chunk_methods, derivatives_body, outputs_body, power_body) =
+        if crate::chunks::applies(equations, &body) {
+            let chunked = crate::chunks::split(
+                graph,
+                equations,
+                &derived,
+                crate::power::terms(graph, equations),
+            );
+            (
+                chunked.methods,
+                chunked.derivatives,
+                chunked.outputs,
+                chunked.power,
+            )
+        } else {
+            (
+                TokenStream::new(),
+                quote!(#solve_dx #body #debug_inverses #(#derivatives)*),
+                quote!(#solve_y #body #(#outputs)*),
+                quote!(#solve_power #body #power),
+            )
+        };
     let initial = initial_state(graph, equations);
     let sparsity = equations
         .jacobian_sparsity()
@@ -267,6 +290,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
 
             #derive_fn
             #staged_methods
+            #chunk_methods
         }
 
         impl ::bgdsl_runtime::FromParams for #name {
@@ -311,19 +335,14 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __dx: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
-                #solve_dx
-                #body
-                #debug_inverses
-                #(#derivatives)*
+                #derivatives_body
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
             fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __y: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
-                #solve_y
-                #body
-                #(#outputs)*
+                #outputs_body
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
@@ -333,9 +352,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 __x: &[Scalar],
             ) -> ::core::option::Option<::bgdsl_runtime::PowerBalance<Scalar>> {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
-                #solve_power
-                #body
-                #power
+                #power_body
             }
 
             fn causal_graph(&self) -> ::core::option::Option<&'static ::bgdsl_runtime::CausalGraph> {
@@ -949,7 +966,7 @@ fn component_names(base: &str, shape: Shape) -> Vec<String> {
 
 /// Each output's shape: as declared, else its expression's (a signal, a component of
 /// one, a parameter, a product of them, ...), else a number.
-fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
+pub fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
     let mut state_of = vec![None; graph.elements.len()];
     let mut kinematic_state = vec![0; graph.kinematics.len()];
     for (i, state) in equations.states.iter().enumerate() {

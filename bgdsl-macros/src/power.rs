@@ -31,9 +31,24 @@ const GAUSS_LEGENDRE_5: [(f64, f64); 5] = [
 pub fn account(graph: &Graph, equations: &Equations) -> TokenStream {
     let scalar = quote!(<Scalar as ::bgdsl_runtime::Scalar>);
     let zero = quote!(#scalar::from_f64(0.0));
-    let mut stored = vec![zero.clone()];
-    let mut input = vec![zero.clone()];
-    let mut dissipated = vec![zero];
+    let mut sums = [vec![zero.clone()], vec![zero.clone()], vec![zero]];
+    for (bucket, term) in terms(graph, equations) {
+        sums[bucket].push(term);
+    }
+    let [stored, input, dissipated] = sums;
+    quote! {
+        ::core::option::Option::Some(::bgdsl_runtime::PowerBalance {
+            stored: #(#stored)+*,
+            input: #(#input)+*,
+            dissipated: #(#dissipated)+*,
+        })
+    }
+}
+
+/// The terms of the energy account, each with its bucket: 0 stored energy, 1 input
+/// power, 2 dissipated power.
+pub fn terms(graph: &Graph, equations: &Equations) -> Vec<(usize, TokenStream)> {
+    let mut terms = Vec::new();
     for (index, state) in equations.states.iter().enumerate() {
         let Some(element) = state.element else {
             continue;
@@ -42,14 +57,18 @@ pub fn account(graph: &Graph, equations: &Equations) -> TokenStream {
         let Some(law) = storage_law(graph, equations, element, index) else {
             continue;
         };
-        stored.push(law.energy(state.shape, &x));
+        terms.push((0, law.energy(state.shape, &x)));
     }
-    stored.extend(crate::staged::dependent_energy(graph, equations));
+    terms.extend(
+        crate::staged::dependent_energy(graph, equations)
+            .into_iter()
+            .map(|term| (0, term)),
+    );
     for id in graph.element_ids() {
         let element = graph.element(id);
         let bucket = match element.kind {
-            ElementKind::Se | ElementKind::Sf => &mut input,
-            ElementKind::R => &mut dissipated,
+            ElementKind::Se | ElementKind::Sf => 1,
+            ElementKind::R => 2,
             _ => continue,
         };
         let bond = element.bonds[0];
@@ -61,19 +80,16 @@ pub fn account(graph: &Graph, equations: &Equations) -> TokenStream {
         let product = dot(shape, &quote!(#e), &quote!(#f));
         // Port power: into a resistor, out of a source.
         let along_port = graph.bond(bond).points_into(id) == (element.kind == ElementKind::R);
-        bucket.push(if along_port {
-            product
-        } else {
-            quote!((-#product))
-        });
+        terms.push((
+            bucket,
+            if along_port {
+                product
+            } else {
+                quote!((-#product))
+            },
+        ));
     }
-    quote! {
-        ::core::option::Option::Some(::bgdsl_runtime::PowerBalance {
-            stored: #(#stored)+*,
-            input: #(#input)+*,
-            dissipated: #(#dissipated)+*,
-        })
-    }
+    terms
 }
 
 /// `a · b` for numbers or vectors.

@@ -39,7 +39,7 @@ scalar)
             }
             print line
             if (i < cells) print sprintf("        n%d -> v%d;", i, i + 1)
-            if (lossless) print sprintf("        init m%d = %.3f;", i, (i % 5) * 0.25 - 0.5)
+            if (lossless) print sprintf("        init m%d.p = %.3f;", i, (i % 5) * 0.25 - 0.5)
         }
         print "        output x1 = k1.q;"
         print "    }"
