@@ -1,7 +1,7 @@
 //! Large generated models, whose evaluation the macro splits into chunk functions
 //! (`bgdsl-macros/src/chunks.rs`): the chains of `models/benches/sizing/generate.sh`
 //! (`large_chain/*.rs`, regenerate with `generate.sh scalar 300`, `LOSSLESS=1
-//! generate.sh scalar 300` and `generate.sh rigid 210`). A hand-written chain is the
+//! generate.sh scalar 300` and `generate.sh rigid 420`). A hand-written chain is the
 //! reference for the derivatives, the Jacobian and the energy account; the lossless
 //! chain conserves its energy; the rigid-body chain's account balances.
 
@@ -205,7 +205,7 @@ fn lossless_chain_conserves_energy() {
     assert!((end - start).abs() <= 1e-7 * start, "energy {start} -> {end}");
 }
 
-/// The chunked rigid-body chain (10 bodies, 210 states): d(stored)/dt = input −
+/// The chunked rigid-body chain (20 bodies, 420 states): d(stored)/dt = input −
 /// dissipated along the model's own dx/dt, by a dual-number directional derivative
 /// through the chunks, to 1e-9 of the powers' size (as `power_balance.rs` checks the
 /// catalogue), at a state away from rest.
@@ -213,7 +213,7 @@ fn lossless_chain_conserves_energy() {
 fn rigid_body_chain_balances_power() {
     let model = bodies::Bodies::default();
     let n = bodies::Bodies::N_STATES;
-    assert_eq!(n, 210);
+    assert_eq!(n, 420);
     let mut x = vec![0.0; n];
     model.initial_state(&mut x);
     for (i, v) in x.iter_mut().enumerate() {
