@@ -60,9 +60,12 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let signal_infos = |names: &[String], described: Vec<&crate::units::Described>| {
         let entries = names.iter().zip(described).map(|(name, d)| {
             let (unit, doc) = (&d.unit, &d.doc);
-            quote!(::bgdsl_runtime::SignalInfo { name: #name, unit: #unit, doc: #doc })
+            quote!(__S { name: #name, unit: #unit, doc: #doc })
         });
-        quote!(&[#(#entries),*])
+        quote!({
+            use ::bgdsl_runtime::SignalInfo as __S;
+            &[#(#entries),*]
+        })
     };
     let state_infos = signal_infos(
         &state_names,
@@ -1263,20 +1266,20 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
             ElementCausality::Derivative => quote!(Derivative),
         };
         let modulated = element.modulated;
-        quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, modulated: #modulated, causality: #rt::ElementCausality::#element_causality })
+        quote!(__E { name: #name, group: #group, kind: __K::#kind, modulated: #modulated, causality: __C::#element_causality })
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);
         let label = match &bond.label {
             Some(label) => {
                 let label = crate::flatten::display(&label.to_string());
-                quote!(::core::option::Option::Some(#label))
+                quote!(__Some(#label))
             }
-            None => quote!(::core::option::Option::None),
+            None => quote!(__None),
         };
         let (from, to, stroke) = (bond.from.0, bond.to.0, causality.stroke_at[id.0].0);
         let dimension = graph.bond_dims[id.0];
-        quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
+        quote!(__B { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
     });
     let loops = equations
         .implicit
@@ -1289,11 +1292,16 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
         });
     quote! {
         /// The causal bond graph this model was generated from.
-        pub const GRAPH: #rt::CausalGraph = #rt::CausalGraph {
-            model: #model,
-            elements: &[#(#elements),*],
-            bonds: &[#(#bonds),*],
-            loops: &[#(#loops),*],
+        pub const GRAPH: #rt::CausalGraph = {
+            // Short names: a large model lists thousands of elements and bonds.
+            use #rt::{GraphElement as __E, ElementKind as __K, ElementCausality as __C, GraphBond as __B};
+            use ::core::option::Option::{Some as __Some, None as __None};
+            #rt::CausalGraph {
+                model: #model,
+                elements: &[#(#elements),*],
+                bonds: &[#(#bonds),*],
+                loops: &[#(#loops),*],
+            }
         };
     }
 }

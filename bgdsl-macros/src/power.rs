@@ -135,12 +135,17 @@ impl Law<'_> {
             Law::Written { var, ty, expr } => {
                 let nodes = GAUSS_LEGENDRE_5.iter().map(|(node, _)| node);
                 let weights = GAUSS_LEGENDRE_5.iter().map(|(_, weight)| weight);
-                let product = dot(shape, &quote!(__law(#x * #scalar::from_f64(__node))), &quote!(#x));
+                let at = quote!(#x * #scalar::from_f64(__nodes[__i]));
+                let product = dot(shape, &quote!(__law(#at)), &quote!(#x));
+                // A `while` over indices: a scope without the prelude has no iterators.
                 quote!({
                     let __law = |#var: #ty| #expr;
+                    let (__nodes, __weights) = ([#(#nodes),*], [#(#weights),*]);
                     let mut __sum = #scalar::from_f64(0.0);
-                    for (__node, __weight) in [#(#nodes),*].into_iter().zip([#(#weights),*]) {
-                        __sum += #scalar::from_f64(__weight) * #product;
+                    let mut __i = 0;
+                    while __i < 5 {
+                        __sum += #scalar::from_f64(__weights[__i]) * #product;
+                        __i += 1;
                     }
                     __sum
                 })
