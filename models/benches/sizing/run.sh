@@ -15,7 +15,8 @@
 #   SIZES="200 400" KINDS=scalar models/benches/sizing/run.sh
 #   SIZING_T_END=0.01 SIZING_STIFF_MAX=2000 SIZING_JACOBIAN_MAX=10000  # main.rs's knobs
 #
-# Long (the 10,000-state builds take minutes each): not run in CI; use `nice -n 10`.
+# Long (the 10,000-state builds take minutes each): not run in CI; use `nice -n 10`. On a
+# shared machine compare the build's CPU seconds (user + system), not its wall time.
 # Dependencies are built once into $SIZING_TARGET_DIR (default /tmp/bgdsl-sizing-target,
 # kept between runs; delete it when done); each model's crate is rebuilt from scratch
 # (CARGO_INCREMENTAL=0) after a touch, so the build time is the model's own.
@@ -114,6 +115,8 @@ for kind in $kinds; do
             end=$(date +%s.%N)
             echo "build_${profile}_s=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')" >>"$log"
             echo "rss_${profile}_mb=$(awk '/Maximum resident/ { printf "%.0f", $NF / 1024 }' "$crate/time-$profile")" >>"$log"
+            # CPU seconds (user + system): what the build costs on a shared machine.
+            echo "cpu_${profile}_s=$(awk '/User time|System time/ { t += $NF } END { printf "%.1f", t }' "$crate/time-$profile")" >>"$log"
         done
         bin="$CARGO_TARGET_DIR/release/sizing-model"
         echo "binary_kb=$(( $(stat -c %s "$bin") / 1024 ))" >>"$log"
@@ -124,14 +127,14 @@ for kind in $kinds; do
             "$crate/functions" >>"$log"
         SIZING_T_END="${SIZING_T_END:-0.01}" nice -n 0 "$bin" >>"$log"
         states=$(kv "$log" states)
-        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' \
+        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' \
             "$kind" "$states" "$(kv "$log" expand_s)" "$(kv "$log" rust_bytes)" \
             "$(kv "$log" build_release_s)" "$(kv "$log" rss_release_mb)" \
             "$(kv "$log" build_dev_s)" "$(kv "$log" rss_dev_mb)" "$(kv "$log" binary_kb)" \
             "$(kv "$log" 'fn_derivatives<f64>')" "$(kv "$log" 'fn_derivatives<DualN<4>>')" \
             "$(kv "$log" 'fn_outputs<f64>')" "$(kv "$log" 'fn_power_balance<f64>')" \
             "$(kv "$log" rhs_us)" "$(kv "$log" anchor_us)" "$(kv "$log" jacobian_us)" \
-            "$(kv "$log" dopri5_ms)" "$(kv "$log" radau5_ms)" "$(kv "$log" power_us)" >>"$results"
+            "$(kv "$log" dopri5_ms)" "$(kv "$log" radau5_ms)" "$(kv "$log" power_us)" "$(kv "$log" cpu_release_s)" >>"$results"
         echo "done: $kind $states states ($(kv "$log" build_release_s) s, $(kv "$log" rss_release_mb) MB)" >&2
         [ -n "${SIZING_KEEP:-}" ] && cp -r "$crate" "$SIZING_KEEP/" 
         rm -rf "$crate"
@@ -139,22 +142,22 @@ for kind in $kinds; do
 done
 
 echo
-echo "| chain | states | macro s | Rust B/state | release build s | rustc MB | dev build s | dev MB | binary KB | derivatives<f64> B/copies | derivatives<DualN<4>> B/copies | outputs<f64> B/copies | power_balance<f64> B/copies | RHS µs | anchor µs | Jacobian µs | dopri5 ms | radau5 ms | power µs |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+echo "| chain | states | macro s | Rust B/state | release build s | rustc MB | dev build s | dev MB | binary KB | derivatives<f64> B/copies | derivatives<DualN<4>> B/copies | outputs<f64> B/copies | power_balance<f64> B/copies | RHS µs | anchor µs | Jacobian µs | dopri5 ms | radau5 ms | power µs | release CPU s |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 awk -F'\t' 'BEGIN { OFS = " | " } {
     per = ($4 == "-") ? "-" : sprintf("%.0f", $4 / $2)
-    print "| " $1, $2, $3, per, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19 " |"
+    print "| " $1, $2, $3, per, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19, $20 " |"
 }' "$results"
 echo
 echo "Growth exponents (least squares of log(value) on log(states); sizes >= 1,000 when two or more):"
 for kind in $kinds; do
     awk -F'\t' -v kind="$kind" '
-    $1 == kind { n++; s[n] = $2; for (c = 3; c <= 19; c++) v[n, c] = $c }
+    $1 == kind { n++; s[n] = $2; for (c = 3; c <= 20; c++) v[n, c] = $c }
     END {
-        split("macro,Rust bytes,release build,rustc MB,dev build,dev MB,binary,,,,,RHS,anchor,Jacobian,dopri5,radau5,power", name, ",")
+        split("macro,Rust bytes,release build,rustc MB,dev build,dev MB,binary,,,,,RHS,anchor,Jacobian,dopri5,radau5,power,release CPU", name, ",")
         big = 0; for (i = 1; i <= n; i++) if (s[i] >= 1000) big++
         line = "  " kind ":"
-        for (c = 3; c <= 19; c++) {
+        for (c = 3; c <= 20; c++) {
             if (name[c - 2] == "") continue
             m = 0; sx = sy = sxx = sxy = 0
             for (i = 1; i <= n; i++) {
