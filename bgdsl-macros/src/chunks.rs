@@ -248,7 +248,10 @@ pub fn split(
         let dx_writes = sink(Sink::Derivatives, quote!(!__dx.is_empty()));
         let y_writes = sink(Sink::Outputs, quote!(!__y.is_empty()));
         let p_writes = sink(Sink::Power, quote!(!__p.is_empty()));
-        let doc = format!("Part {} of the model's evaluation (see `derivatives`).", c + 1);
+        let doc = format!(
+            "Part {} of the model's evaluation (see `derivatives`).",
+            c + 1
+        );
         methods.extend(quote! {
             #[doc = #doc]
             #[doc(hidden)]

@@ -5,7 +5,9 @@
 //! reference for the derivatives, the Jacobian and the energy account; the lossless
 //! chain conserves its energy; the rigid-body chain's account balances.
 
-use bgdsl_runtime::{simulate, Dual, DormandPrinceOptions, JacobianEvaluator, Model, Scalar, Solver};
+use bgdsl_runtime::{
+    simulate, DormandPrinceOptions, Dual, JacobianEvaluator, Model, Scalar, Solver,
+};
 
 mod damped {
     include!("large_chain/damped.rs");
@@ -36,7 +38,9 @@ struct Hand {
 
 impl Hand {
     fn velocities(&self, p: &[f64]) -> Vec<f64> {
-        (0..self.cells).map(|i| p[i] / (self.m * weight(i + 1))).collect()
+        (0..self.cells)
+            .map(|i| p[i] / (self.m * weight(i + 1)))
+            .collect()
     }
 
     fn forces(&self, p: &[f64], q: &[f64]) -> Vec<f64> {
@@ -44,7 +48,11 @@ impl Hand {
         (0..self.cells)
             .map(|i| {
                 let next = v.get(i + 1).copied().unwrap_or(0.0);
-                let damper = if self.lossless { 0.0 } else { self.c * weight(i + 1) * (v[i] - next) };
+                let damper = if self.lossless {
+                    0.0
+                } else {
+                    self.c * weight(i + 1) * (v[i] - next)
+                };
                 self.k / weight(i + 1) * q[i] + damper
             })
             .collect()
@@ -104,7 +112,9 @@ fn layout(names: &[&str], cells: usize) -> (Vec<usize>, Vec<usize>) {
 
 /// A state away from rest, the same every run.
 fn state(n: usize) -> Vec<f64> {
-    (0..n).map(|i| 0.01 * ((i * 7919) % 23) as f64 - 0.1).collect()
+    (0..n)
+        .map(|i| 0.01 * ((i * 7919) % 23) as f64 - 0.1)
+        .collect()
 }
 
 fn close(a: f64, b: f64, scale: f64) -> bool {
@@ -121,7 +131,14 @@ fn chunked_chain_equals_the_hand_written_one() {
     let n = damped::Chain::N_STATES;
     assert_eq!(n, 300);
     let cells = n / 2;
-    let hand = Hand { cells, lossless: false, m: 1.0, k: 100.0, c: 0.5, force: 1.0 };
+    let hand = Hand {
+        cells,
+        lossless: false,
+        m: 1.0,
+        k: 100.0,
+        c: 0.5,
+        force: 1.0,
+    };
     let (ip, iq) = layout(damped::Chain::STATE_NAMES, cells);
     let x = state(n);
     let p: Vec<f64> = ip.iter().map(|&i| x[i]).collect();
@@ -132,8 +149,20 @@ fn chunked_chain_equals_the_hand_written_one() {
     let (dp, dq) = hand.derivatives(t, &p, &q);
     let scale = dx.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for i in 0..cells {
-        assert!(close(dx[ip[i]], dp[i], scale), "dp_{}: {} vs {}", i + 1, dx[ip[i]], dp[i]);
-        assert!(close(dx[iq[i]], dq[i], scale), "dq_{}: {} vs {}", i + 1, dx[iq[i]], dq[i]);
+        assert!(
+            close(dx[ip[i]], dp[i], scale),
+            "dp_{}: {} vs {}",
+            i + 1,
+            dx[ip[i]],
+            dp[i]
+        );
+        assert!(
+            close(dx[iq[i]], dq[i], scale),
+            "dq_{}: {} vs {}",
+            i + 1,
+            dx[iq[i]],
+            dq[i]
+        );
     }
     // The Jacobian by central differences of the hand-written chain (exact: it is
     // linear in the state), against the model's by automatic differentiation.
@@ -153,7 +182,10 @@ fn chunked_chain_equals_the_hand_written_one() {
         plus[j] += 0.5;
         minus[j] -= 0.5;
         let split = |x: &[f64]| -> (Vec<f64>, Vec<f64>) {
-            (ip.iter().map(|&i| x[i]).collect(), iq.iter().map(|&i| x[i]).collect())
+            (
+                ip.iter().map(|&i| x[i]).collect(),
+                iq.iter().map(|&i| x[i]).collect(),
+            )
         };
         let (pp, qp) = split(&plus);
         let (pm, qm) = split(&minus);
@@ -170,9 +202,21 @@ fn chunked_chain_equals_the_hand_written_one() {
     }
     let balance = model.power_balance(t, &x).expect("an account");
     let (stored, input, dissipated) = hand.power(t, &p, &q);
-    assert!(close(balance.stored, stored, stored), "{} vs {stored}", balance.stored);
-    assert!(close(balance.input, input, input.abs() + 1.0), "{} vs {input}", balance.input);
-    assert!(close(balance.dissipated, dissipated, dissipated), "{} vs {dissipated}", balance.dissipated);
+    assert!(
+        close(balance.stored, stored, stored),
+        "{} vs {stored}",
+        balance.stored
+    );
+    assert!(
+        close(balance.input, input, input.abs() + 1.0),
+        "{} vs {input}",
+        balance.input
+    );
+    assert!(
+        close(balance.dissipated, dissipated, dissipated),
+        "{} vs {dissipated}",
+        balance.dissipated
+    );
     let mut y = vec![0.0; damped::Chain::N_OUTPUTS];
     model.outputs(t, &x, &mut y);
     assert_eq!(y[0], q[0], "output x1 = k1.q");
@@ -186,9 +230,20 @@ fn lossless_chain_conserves_energy() {
     let model = lossless::Chain::default();
     let n = lossless::Chain::N_STATES;
     let cells = n / 2;
-    let hand = Hand { cells, lossless: true, m: 1.0, k: 100.0, c: 0.0, force: 0.0 };
+    let hand = Hand {
+        cells,
+        lossless: true,
+        m: 1.0,
+        k: 100.0,
+        c: 0.0,
+        force: 0.0,
+    };
     let (ip, iq) = layout(lossless::Chain::STATE_NAMES, cells);
-    let solver = Solver::DormandPrince(DormandPrinceOptions { rtol: 1e-10, atol: 1e-12, ..Default::default() });
+    let solver = Solver::DormandPrince(DormandPrinceOptions {
+        rtol: 1e-10,
+        atol: 1e-12,
+        ..Default::default()
+    });
     let run = simulate(&model, solver, 0.0, 2.0, 2).expect("the chain runs");
     let energy = |row: usize| {
         let x: Vec<f64> = (0..n).map(|i| run.state(row, i).unwrap()).collect();
@@ -202,7 +257,10 @@ fn lossless_chain_conserves_energy() {
     };
     let (start, end) = (energy(0), energy(1));
     assert!(start > 1.0, "the chain starts moving: {start}");
-    assert!((end - start).abs() <= 1e-7 * start, "energy {start} -> {end}");
+    assert!(
+        (end - start).abs() <= 1e-7 * start,
+        "energy {start} -> {end}"
+    );
 }
 
 /// The chunked rigid-body chain (20 bodies, 420 states): d(stored)/dt = input −

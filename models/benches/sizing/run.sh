@@ -5,7 +5,7 @@
 # throwaway crate in /tmp and prints a markdown table of: macro expansion time and bytes
 # of generated Rust per state, release build time and rustc's peak memory (max RSS from
 # /usr/bin/time -v), binary size and the largest generated functions (symbol table),
-# one right-hand side, one Jacobian and a short solve (main.rs, with a hand-written
+# one right-hand side, one Jacobian and a short solve (program.rs, with a hand-written
 # chain's right-hand side as the anchor), then the growth exponents (least squares on
 # log-log, over the sizes >= 1,000 states when there are two, else all).
 #
@@ -13,7 +13,7 @@
 #   models/benches/sizing/run.sh --quick          # stops at 1,000 states
 #   models/benches/sizing/run.sh --dev            # also times the dev-profile build
 #   SIZES="200 400" KINDS=scalar models/benches/sizing/run.sh
-#   SIZING_T_END=0.01 SIZING_STIFF_MAX=2000 SIZING_JACOBIAN_MAX=10000  # main.rs's knobs
+#   SIZING_T_END=0.01 SIZING_STIFF_MAX=2000 SIZING_JACOBIAN_MAX=10000  # program.rs's knobs
 #
 # Long (the 10,000-state builds take minutes each): not run in CI; use `nice -n 10`. On a
 # shared machine compare the build's CPU seconds (user + system), not its wall time.
@@ -97,7 +97,7 @@ for kind in $kinds; do
         manifest sizing-model "bgdsl-runtime = { path = \"$root/bgdsl-runtime\" }" >"$crate/Cargo.toml"
         name=$([ "$kind" = scalar ] && echo Chain || echo Bodies)
         { "$here/generate.sh" "$kind" "$n"; echo "pub type Subject = $name;"; } >"$crate/src/model.rs"
-        cp "$here/main.rs" "$crate/src/main.rs"
+        cp "$here/program.rs" "$crate/src/main.rs"
         log="$crate/log"
         "$expand_bin" "$crate/src/model.rs" >"$log"
         # Dependencies first (not timed): a crate without the model.
@@ -105,7 +105,7 @@ for kind in $kinds; do
         echo "pub struct Subject;" >"$crate/src/model.rs"
         (cd "$crate" && echo 'fn main() {}' >src/main.rs && cargo build --quiet --release 2>/dev/null)
         mv "$crate/model.rs" "$crate/src/model.rs"
-        cp "$here/main.rs" "$crate/src/main.rs"
+        cp "$here/program.rs" "$crate/src/main.rs"
         for profile in release $([ "$dev" = yes ] && echo dev); do
             flag=$([ "$profile" = release ] && echo --release || echo)
             touch "$crate/src/main.rs"
