@@ -1,7 +1,7 @@
-//! The sizing benchmark's program (run.sh copies it into each throwaway crate, as main.rs, next to
-//! the generated `model.rs`): times one right-hand side, one Jacobian and a short solve
-//! of the model, with a hand-written chain's right-hand side as the anchor, and prints
-//! them as `key=value` lines for run.sh.
+//! The sizing benchmark's program (run.sh copies it into each throwaway crate, as
+//! `main.rs`, next to the generated `model.rs`): times one right-hand side, one
+//! Jacobian and a short solve of the model, with a hand-written chain's right-hand
+//! side as the anchor, and prints them as `key=value` lines for run.sh.
 
 mod model;
 
