@@ -13,6 +13,8 @@
 mod allow;
 #[path = "../src/causality/mod.rs"]
 mod causality;
+#[path = "../src/chunks.rs"]
+mod chunks;
 #[path = "../src/codegen.rs"]
 mod codegen;
 #[path = "../src/compliance.rs"]

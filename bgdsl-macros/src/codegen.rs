@@ -60,9 +60,12 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let signal_infos = |names: &[String], described: Vec<&crate::units::Described>| {
         let entries = names.iter().zip(described).map(|(name, d)| {
             let (unit, doc) = (&d.unit, &d.doc);
-            quote!(::bgdsl_runtime::SignalInfo { name: #name, unit: #unit, doc: #doc })
+            quote!(__S { name: #name, unit: #unit, doc: #doc })
         });
-        quote!(&[#(#entries),*])
+        quote!({
+            use ::bgdsl_runtime::SignalInfo as __S;
+            &[#(#entries),*]
+        })
     };
     let state_infos = signal_infos(
         &state_names,
@@ -159,6 +162,29 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             write
         })
         .collect();
+    // A large model's evaluation is split into chunk methods the three share.
+    let (chunk_methods, derivatives_body, outputs_body, power_body) =
+        if crate::chunks::applies(equations, &body) {
+            let chunked = crate::chunks::split(
+                graph,
+                equations,
+                &derived,
+                crate::power::terms(graph, equations),
+            );
+            (
+                chunked.methods,
+                chunked.derivatives,
+                chunked.outputs,
+                chunked.power,
+            )
+        } else {
+            (
+                TokenStream::new(),
+                quote!(#solve_dx #body #debug_inverses #(#derivatives)*),
+                quote!(#solve_y #body #(#outputs)*),
+                quote!(#solve_power #body #power),
+            )
+        };
     let initial = initial_state(graph, equations);
     let sparsity = equations
         .jacobian_sparsity()
@@ -267,6 +293,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
 
             #derive_fn
             #staged_methods
+            #chunk_methods
         }
 
         impl ::bgdsl_runtime::FromParams for #name {
@@ -311,19 +338,14 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             fn derivatives<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __dx: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__dx.len(), #n_states, "derivative vector length");
-                #solve_dx
-                #body
-                #debug_inverses
-                #(#derivatives)*
+                #derivatives_body
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
             fn outputs<Scalar: ::bgdsl_runtime::Scalar>(&self, __t: ::core::primitive::f64, __x: &[Scalar], __y: &mut [Scalar]) {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
                 ::core::assert_eq!(__y.len(), #n_outputs, "output vector length");
-                #solve_y
-                #body
-                #(#outputs)*
+                #outputs_body
             }
 
             #[allow(unused_variables, unused_parens, unused_braces, non_snake_case, clippy::all)]
@@ -333,9 +355,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
                 __x: &[Scalar],
             ) -> ::core::option::Option<::bgdsl_runtime::PowerBalance<Scalar>> {
                 ::core::assert_eq!(__x.len(), #n_states, "state vector length");
-                #solve_power
-                #body
-                #power
+                #power_body
             }
 
             fn causal_graph(&self) -> ::core::option::Option<&'static ::bgdsl_runtime::CausalGraph> {
@@ -949,7 +969,7 @@ fn component_names(base: &str, shape: Shape) -> Vec<String> {
 
 /// Each output's shape: as declared, else its expression's (a signal, a component of
 /// one, a parameter, a product of them, ...), else a number.
-fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
+pub fn output_shapes(graph: &Graph, equations: &Equations) -> Vec<Shape> {
     let mut state_of = vec![None; graph.elements.len()];
     let mut kinematic_state = vec![0; graph.kinematics.len()];
     for (i, state) in equations.states.iter().enumerate() {
@@ -1246,20 +1266,20 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
             ElementCausality::Derivative => quote!(Derivative),
         };
         let modulated = element.modulated;
-        quote!(#rt::GraphElement { name: #name, group: #group, kind: #rt::ElementKind::#kind, modulated: #modulated, causality: #rt::ElementCausality::#element_causality })
+        quote!(__E { name: #name, group: #group, kind: __K::#kind, modulated: #modulated, causality: __C::#element_causality })
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);
         let label = match &bond.label {
             Some(label) => {
                 let label = crate::flatten::display(&label.to_string());
-                quote!(::core::option::Option::Some(#label))
+                quote!(__Some(#label))
             }
-            None => quote!(::core::option::Option::None),
+            None => quote!(__None),
         };
         let (from, to, stroke) = (bond.from.0, bond.to.0, causality.stroke_at[id.0].0);
         let dimension = graph.bond_dims[id.0];
-        quote!(#rt::GraphBond { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
+        quote!(__B { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
     });
     let loops = equations
         .implicit
@@ -1272,11 +1292,16 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
         });
     quote! {
         /// The causal bond graph this model was generated from.
-        pub const GRAPH: #rt::CausalGraph = #rt::CausalGraph {
-            model: #model,
-            elements: &[#(#elements),*],
-            bonds: &[#(#bonds),*],
-            loops: &[#(#loops),*],
+        pub const GRAPH: #rt::CausalGraph = {
+            // Short names: a large model lists thousands of elements and bonds.
+            use #rt::{GraphElement as __E, ElementKind as __K, ElementCausality as __C, GraphBond as __B};
+            use ::core::option::Option::{Some as __Some, None as __None};
+            #rt::CausalGraph {
+                model: #model,
+                elements: &[#(#elements),*],
+                bonds: &[#(#bonds),*],
+                loops: &[#(#loops),*],
+            }
         };
     }
 }

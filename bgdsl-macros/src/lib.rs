@@ -13,6 +13,7 @@
 
 mod allow;
 mod causality;
+mod chunks;
 mod codegen;
 mod compliance;
 mod components;

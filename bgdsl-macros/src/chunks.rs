@@ -1,0 +1,424 @@
+//! Part of code generation: a large model's evaluation split into chunk functions of
+//! bounded size, shared by `derivatives`, `outputs` and `power_balance`.
+//!
+//! LLVM's optimisation and register allocation grow faster than linearly with the
+//! size of one function, so one straight-line `derivatives` of 10,000 states takes
+//! minutes and gigabytes to build. Here the equations, in their computation order, are
+//! cut into runs of about [`CHUNK_TOKENS`] tokens; each run becomes an
+//! `#[inline(never)]` method `__chunk_<k>` generic over the scalar, which
+//! - binds the parameters, hoisted values and states it reads (cheap, so re-bound
+//!   rather than passed),
+//! - takes the signals it reads from earlier chunks as arguments,
+//! - computes its equations (the same statements as the straight-line code, so the
+//!   numbers are bit for bit the same),
+//! - writes the derivatives, outputs and power terms whose last input it computes
+//!   into `__dx`, `__y` and `__p` when they are not empty,
+//! - returns the signals later chunks read.
+//!
+//! `derivatives` calls every chunk with `__dx`, `outputs` with `__y`, `power_balance`
+//! with `__p`: one copy of the equations serves all three. Only models without torn
+//! unknowns, dependent storage or inverse checks are chunked (those keep the
+//! straight-line code, which [`crate::staged`] builds on).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use proc_macro2::{Ident, Span, TokenStream, TokenTree};
+use quote::{format_ident, quote, ToTokens};
+
+use crate::codegen::{assignment, value_type, write_value};
+use crate::derived::Derived;
+use crate::equations::{Derivative, Equations};
+use crate::ir::Graph;
+use crate::rewrite::term_tokens;
+
+/// About how many tokens of equations one chunk function holds.
+pub const CHUNK_TOKENS: usize = 3000;
+
+/// Models whose evaluation has more tokens than this are chunked: 1.6 times the
+/// flagship's (9,400), which keeps its straight-line code and its speed.
+pub const CHUNKED_ABOVE: usize = 15_000;
+
+/// Whether the model is chunked: large, and with none of what the staged evaluation
+/// handles.
+pub fn applies(equations: &Equations, body: &TokenStream) -> bool {
+    !crate::staged::needed(equations)
+        && equations.inverses.is_empty()
+        && count_tokens(body.clone()) > CHUNKED_ABOVE
+}
+
+/// Where a piece of code writes when its chunk is called with a non-empty target.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Sink {
+    Derivatives,
+    Outputs,
+    Power,
+}
+
+/// One statement of the evaluation: what it defines (and its type), what it reads.
+struct Item {
+    tokens: TokenStream,
+    reads: BTreeSet<String>,
+    size: usize,
+}
+
+/// A binding of the prelude (time, a parameter, a hoisted value, a state, a mode).
+struct Binding {
+    defines: String,
+    tokens: TokenStream,
+    reads: BTreeSet<String>,
+}
+
+/// An equation with what it defines, and the writes that wait for it.
+struct Step {
+    item: Item,
+    signal: crate::signals::Signal,
+    name: String,
+    ty: TokenStream,
+    sinks: Vec<(Sink, Item)>,
+}
+
+/// The chunked evaluation: the chunk methods and, for each caller, its body.
+pub struct Chunked {
+    /// The `__chunk_<k>` methods (inherent, generic over the scalar).
+    pub methods: TokenStream,
+    /// The body of `derivatives` after its length checks.
+    pub derivatives: TokenStream,
+    /// The body of `outputs` after its length checks.
+    pub outputs: TokenStream,
+    /// The body of `power_balance` after its length check.
+    pub power: TokenStream,
+}
+
+/// Splits the evaluation into chunks. `power` holds the power account's terms: the
+/// bucket (0 stored, 1 input, 2 dissipated) and the term.
+pub fn split(
+    graph: &Graph,
+    equations: &Equations,
+    derived: &Derived,
+    power: Vec<(usize, TokenStream)>,
+) -> Chunked {
+    let scalar = quote!(Scalar);
+    let rt = quote!(::bgdsl_runtime);
+    let bindings = prelude_bindings(graph, equations, derived);
+    let mut steps: Vec<Step> = equations
+        .ordered
+        .iter()
+        .map(|eq| {
+            let ident = eq.defines.ident(Span::call_site());
+            Step {
+                item: item(derived.replace(assignment(graph, equations, eq))),
+                signal: eq.defines,
+                name: ident.to_string(),
+                ty: value_type(equations.shape_of(graph, eq.defines), &scalar),
+                sinks: Vec::new(),
+            }
+        })
+        .collect();
+    let defined_at: BTreeMap<String, usize> = steps
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.clone(), i))
+        .collect();
+    // Each write goes with the last equation it reads (the first when it reads none).
+    let mut place = |sink: Sink, tokens: TokenStream| {
+        let item = item(derived.replace(tokens));
+        let at = item
+            .reads
+            .iter()
+            .filter_map(|r| defined_at.get(r))
+            .max()
+            .copied()
+            .unwrap_or(0);
+        steps[at].sinks.push((sink, item));
+    };
+    let dx = Ident::new("__dx", Span::call_site());
+    for (state, offset) in equations.states.iter().zip(equations.offsets()) {
+        let value = match &state.derivative {
+            Derivative::Term(term) => term_tokens(*term, Span::call_site()),
+            Derivative::Expr(der) => der.expr.to_token_stream(),
+        };
+        place(
+            Sink::Derivatives,
+            write_value(state.shape, value, &dx, offset, &scalar),
+        );
+    }
+    let y = Ident::new("__y", Span::call_site());
+    let mut offset = 0;
+    for (output, shape) in equations
+        .outputs
+        .iter()
+        .zip(crate::codegen::output_shapes(graph, equations))
+    {
+        let write = write_value(shape, output.expr.to_token_stream(), &y, offset, &scalar);
+        offset += shape.len();
+        place(Sink::Outputs, write);
+    }
+    for (bucket, term) in power {
+        place(Sink::Power, quote!(__p[#bucket] += #term;));
+    }
+    let has_cache = derived.has_cache();
+    let cache_type = Derived::cache_type(&graph.name);
+    let derived_param = has_cache.then(|| quote!(__derived: &#cache_type,));
+    let derived_arg = has_cache.then(|| quote!(__derived,));
+    // Cut into chunks of about CHUNK_TOKENS.
+    let mut chunks: Vec<Vec<Step>> = vec![Vec::new()];
+    let mut size = 0;
+    for step in steps {
+        let step_size = step.item.size + step.sinks.iter().map(|(_, i)| i.size).sum::<usize>();
+        if size > 0 && size + step_size > CHUNK_TOKENS {
+            chunks.push(Vec::new());
+            size = 0;
+        }
+        size += step_size;
+        chunks.last_mut().expect("one chunk at least").push(step);
+    }
+    // What each chunk reads from earlier ones, and so what each returns.
+    let chunk_of: BTreeMap<&str, usize> = chunks
+        .iter()
+        .enumerate()
+        .flat_map(|(c, steps)| steps.iter().map(move |s| (s.name.as_str(), c)))
+        .collect();
+    let type_of: BTreeMap<&str, &TokenStream> = chunks
+        .iter()
+        .flatten()
+        .map(|s| (s.name.as_str(), &s.ty))
+        .collect();
+    // The signals' own identifiers (their hygiene is the macro's mixed site).
+    let ident_of: BTreeMap<&str, Ident> = chunks
+        .iter()
+        .flatten()
+        .map(|s| (s.name.as_str(), s.signal.ident(Span::call_site())))
+        .collect();
+    let reads: Vec<BTreeSet<String>> = chunks
+        .iter()
+        .map(|steps| {
+            let mut all = BTreeSet::new();
+            for step in steps {
+                all.extend(step.item.reads.iter().cloned());
+                for (_, item) in &step.sinks {
+                    all.extend(item.reads.iter().cloned());
+                }
+            }
+            all
+        })
+        .collect();
+    let inputs: Vec<Vec<&str>> = reads
+        .iter()
+        .enumerate()
+        .map(|(c, reads)| {
+            reads
+                .iter()
+                .filter(|r| chunk_of.get(r.as_str()).is_some_and(|&at| at < c))
+                .map(|r| *chunk_of.get_key_value(r.as_str()).expect("defined").0)
+                .collect()
+        })
+        .collect();
+    let mut returned: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); chunks.len()];
+    for names in &inputs {
+        for name in names {
+            returned[chunk_of[name]].insert(name);
+        }
+    }
+    let mut methods = TokenStream::new();
+    let mut calls = TokenStream::new();
+    for (c, steps) in chunks.iter().enumerate() {
+        let method = format_ident!("__chunk_{}", c);
+        let ident = |name: &str| ident_of[name].clone();
+        let params = inputs[c].iter().map(|name| {
+            let (name, ty) = (ident(name), type_of[name]);
+            quote!(#name: #ty,)
+        });
+        let args = inputs[c].iter().map(|name| {
+            let name = ident(name);
+            quote!(#name,)
+        });
+        let out_names: Vec<Ident> = returned[c].iter().map(|n| ident(n)).collect();
+        let out_types = returned[c].iter().map(|n| type_of[n]);
+        let prelude = needed_bindings(&bindings, &reads[c]);
+        let statements = steps.iter().map(|s| &s.item.tokens);
+        let sink = |which: Sink, guard: TokenStream| {
+            let writes: Vec<&TokenStream> = steps
+                .iter()
+                .flat_map(|s| &s.sinks)
+                .filter(|(k, _)| *k == which)
+                .map(|(_, item)| &item.tokens)
+                .collect();
+            (!writes.is_empty()).then(|| quote!(if #guard { #(#writes)* }))
+        };
+        let dx_writes = sink(Sink::Derivatives, quote!(!__dx.is_empty()));
+        let y_writes = sink(Sink::Outputs, quote!(!__y.is_empty()));
+        let p_writes = sink(Sink::Power, quote!(!__p.is_empty()));
+        let doc = format!(
+            "Part {} of the model's evaluation (see `derivatives`).",
+            c + 1
+        );
+        methods.extend(quote! {
+            #[doc = #doc]
+            #[doc(hidden)]
+            #[inline(never)]
+            #[allow(unused_variables, unused_parens, unused_braces, unused_mut, non_snake_case, clippy::all)]
+            fn #method<Scalar: #rt::Scalar>(
+                &self,
+                __t: ::core::primitive::f64,
+                __x: &[Scalar],
+                #derived_param
+                #(#params)*
+                __dx: &mut [Scalar],
+                __y: &mut [Scalar],
+                __p: &mut [Scalar],
+            ) -> (#(#out_types,)*) {
+                #prelude
+                #(#statements)*
+                #dx_writes
+                #y_writes
+                #p_writes
+                (#(#out_names,)*)
+            }
+        });
+        calls.extend(quote! {
+            let (#(#out_names,)*) = self.#method::<Scalar>(__t, __x, #derived_arg #(#args)* __dx, __y, __p);
+        });
+    }
+    let cache = has_cache.then(|| {
+        quote! {
+            let __derived_now;
+            let __derived = if self.__derived.params == self.params {
+                &self.__derived
+            } else {
+                __derived_now = Self::__derive(&self.params);
+                &__derived_now
+            };
+        }
+    });
+    let zero = quote!(<Scalar as #rt::Scalar>::from_f64(0.0));
+    Chunked {
+        methods,
+        derivatives: quote! {
+            #cache
+            let (__y, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #calls
+        },
+        outputs: quote! {
+            #cache
+            let (__dx, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #calls
+        },
+        power: quote! {
+            #cache
+            let mut __sums = [#zero, #zero, #zero];
+            {
+                let (__dx, __y, __p): (&mut [Scalar], &mut [Scalar], &mut [Scalar]) =
+                    (&mut [], &mut [], &mut __sums);
+                #calls
+            }
+            let [stored, input, dissipated] = __sums;
+            ::core::option::Option::Some(#rt::PowerBalance { stored, input, dissipated })
+        },
+    }
+}
+
+/// The prelude's `let` statements, one binding each (the derived-value cache is a
+/// chunk's argument instead).
+fn prelude_bindings(graph: &Graph, equations: &Equations, derived: &Derived) -> Vec<Binding> {
+    let time = quote!(let t: Scalar = <Scalar as ::bgdsl_runtime::Scalar>::from_f64(__t););
+    let prelude = crate::codegen::prelude(graph, equations, derived);
+    statements(quote!(#time #prelude))
+        .into_iter()
+        .filter_map(|tokens| {
+            let defines = let_name(&tokens)?;
+            if defines == "__derived" || defines == "__derived_now" {
+                return None;
+            }
+            let tokens = derived.replace(tokens);
+            let mut reads = BTreeSet::new();
+            scan(tokens.clone(), &mut reads);
+            Some(Binding {
+                defines,
+                tokens,
+                reads,
+            })
+        })
+        .collect()
+}
+
+/// The bindings that `reads` need, with what they read in turn, in prelude order.
+fn needed_bindings(bindings: &[Binding], reads: &BTreeSet<String>) -> TokenStream {
+    let mut needed = reads.clone();
+    let mut keep = vec![false; bindings.len()];
+    for (i, binding) in bindings.iter().enumerate().rev() {
+        if needed.contains(&binding.defines) {
+            keep[i] = true;
+            needed.extend(binding.reads.iter().cloned());
+        }
+    }
+    bindings
+        .iter()
+        .zip(keep)
+        .filter(|(_, keep)| *keep)
+        .map(|(b, _)| b.tokens.clone())
+        .collect()
+}
+
+/// Top-level statements of `stream`, split at `;`.
+fn statements(stream: TokenStream) -> Vec<TokenStream> {
+    let mut out = Vec::new();
+    let mut current = TokenStream::new();
+    for tree in stream {
+        let end = matches!(&tree, TokenTree::Punct(p) if p.as_char() == ';');
+        current.extend(std::iter::once(tree));
+        if end {
+            out.push(std::mem::take(&mut current));
+        }
+    }
+    out
+}
+
+/// `x` of a statement `let x ...;` (`let mut x` too).
+fn let_name(statement: &TokenStream) -> Option<String> {
+    let mut trees = statement.clone().into_iter();
+    match trees.next()? {
+        TokenTree::Ident(i) if i == "let" => {}
+        _ => return None,
+    }
+    match trees.next()? {
+        TokenTree::Ident(i) if i == "mut" => match trees.next()? {
+            TokenTree::Ident(i) => Some(i.to_string()),
+            _ => None,
+        },
+        TokenTree::Ident(i) => Some(i.to_string()),
+        _ => None,
+    }
+}
+
+fn item(tokens: TokenStream) -> Item {
+    let mut reads = BTreeSet::new();
+    let size = scan(tokens.clone(), &mut reads);
+    Item {
+        tokens,
+        reads,
+        size,
+    }
+}
+
+/// Collects every identifier in `stream` into `idents` (a superset of what it reads:
+/// a name it only defines or shadows costs at most an unused argument) and returns the
+/// number of tokens.
+fn scan(stream: TokenStream, idents: &mut BTreeSet<String>) -> usize {
+    let mut count = 0;
+    for tree in stream {
+        count += 1;
+        match tree {
+            TokenTree::Ident(i) => {
+                idents.insert(i.to_string());
+            }
+            TokenTree::Group(g) => count += scan(g.stream(), idents),
+            _ => {}
+        }
+    }
+    count
+}
+
+/// The number of tokens in `stream`, groups counted through.
+fn count_tokens(stream: TokenStream) -> usize {
+    scan(stream, &mut BTreeSet::new())
+}
