@@ -9,13 +9,13 @@ use bgdsl_runtime::{
 use stiff_common::{Robertson, ROBERTSON_REF};
 
 /// Robertson to `t = 1e11` with Radau5 (rtol 1e-6). `y2` ends near 8.3e-14 (reference:
-/// Bari test set, ROBER), so a scalar `atol = 1e-6` leaves it unresolved (it ends with
+/// Bari test set, ROBER), so a scalar `atol = 1e-4` leaves it unresolved (it ends with
 /// the wrong sign), while `atol = 1e-14` for `y2` alone resolves it to 1e-3 relative,
 /// with fewer steps than the scalar 1e-14 that the other states do not need.
 #[test]
 fn a_tight_atol_for_one_state_resolves_it() {
     let solver = Solver::Radau5(Radau5Options {
-        atol: 1e-6,
+        atol: 1e-4,
         ..Default::default()
     });
     let x0 = [1.0, 0.0, 0.0];
@@ -27,8 +27,8 @@ fn a_tight_atol_for_one_state_resolves_it() {
         "y2 = {loose:e}"
     );
 
-    sim.set_atol(&[1e-6, 1e-14, 1e-6]).unwrap();
-    assert_eq!(sim.atol(), Some(&[1e-6, 1e-14, 1e-6][..]));
+    sim.set_atol(&[1e-4, 1e-14, 1e-4]).unwrap();
+    assert_eq!(sim.atol(), Some(&[1e-4, 1e-14, 1e-4][..]));
     let per_state = sim.run(0.0, &x0, &[1e11], &mut ()).unwrap();
     let x = sim.state().to_vec();
     let rel = (x[1] - ROBERTSON_REF[1]).abs() / ROBERTSON_REF[1];
