@@ -435,7 +435,7 @@ const fn chain_rows<const NS: usize>() -> [[usize; 6]; NS] {
     let mut r = 0;
     while r < NS {
         let mut start = 2 * (r / 2);
-        start = if start >= 2 { start - 2 } else { 0 };
+        start = start.saturating_sub(2);
         if start > NS - 6 {
             start = NS - 6;
         }
