@@ -170,7 +170,9 @@ pub fn split(
             size = 0;
         }
         size += step_size;
-        chunks.last_mut().expect("one chunk at least").push(step);
+        if let Some(current) = chunks.last_mut() {
+            current.push(step);
+        }
     }
     // What each chunk reads from earlier ones, and so what each returns.
     let chunk_of: BTreeMap<&str, usize> = chunks
@@ -208,8 +210,9 @@ pub fn split(
         .map(|(c, reads)| {
             reads
                 .iter()
-                .filter(|r| chunk_of.get(r.as_str()).is_some_and(|&at| at < c))
-                .map(|r| *chunk_of.get_key_value(r.as_str()).expect("defined").0)
+                .filter_map(|r| chunk_of.get_key_value(r.as_str()))
+                .filter(|&(_, &at)| at < c)
+                .map(|(&name, _)| name)
                 .collect()
         })
         .collect();
