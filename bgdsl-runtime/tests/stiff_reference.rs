@@ -155,8 +155,9 @@ fn pollution_to_60() {
 ///
 /// The linear invariant `y2 - y3 - y4 = 0` holds for the exact solution and, with the
 /// Jacobian exact, for every Runge–Kutta and Rosenbrock step in exact arithmetic. In
-/// floating point Radau5 keeps it to `1.2e-3 |y2|` at the end (the Newton iteration
-/// sees a violation in its residual and removes it). Rodas4 is left out: it breaks the
+/// floating point Radau5 keeps it to `4.8e-4 |y2|` at the end (measured; 1.2e-3 before
+/// issue 15's tolerance change; asserted below 2e-3): the Newton iteration sees a
+/// violation in its residual and removes it. Rodas4 is left out: it breaks the
 /// invariant by 4e-2 to 1.3e6 times `y2` at rtol 1e-4…1e-8 (measured), and misses the
 /// tolerance by 1.8–110x; its stages are single linear solves with
 /// `1/(h γ) I - J` at steps near 1e8, whose rounding nothing corrects.
@@ -169,7 +170,7 @@ fn e5_to_1e13() {
     assert!(err <= 1.0, "scaled error {err:e}, {x:?}");
     let invariant = (x[1] - x[2] - x[3]).abs() / x[1].abs();
     assert!(
-        invariant <= 1e-2,
+        invariant <= 2e-3,
         "|y2 - y3 - y4| / |y2| = {invariant:e}, {x:?}"
     );
     // Pinned: a change of the algorithm must be deliberate.
