@@ -10,15 +10,15 @@
 //! pivots fail, so a fallback count above zero proves the sparse LU was used, where the
 //! banded path of a model declaring no pattern has none.
 
+#[path = "support/pair_runs.rs"]
+mod pair_runs;
 #[path = "support/pairs.rs"]
 mod pairs;
 
 use std::cell::{Cell, RefCell};
 
-use bgdsl_runtime::{
-    Jacobian, JacobianEvaluator, Model, Radau5Options, Rodas4Options, Scalar, Simulation, Solver,
-    SparsityPattern, Stats,
-};
+use bgdsl_runtime::{Jacobian, JacobianEvaluator, Model, Scalar, Solver, SparsityPattern, Stats};
+use pair_runs::{run, scaled_difference, solvers};
 use pairs::{Pairs, N};
 
 /// `Pairs<true>` with its Jacobian written densely and no declared pattern.
@@ -109,37 +109,6 @@ impl Model for Sparse {
         values.copy_from_slice(jac.values());
         true
     }
-}
-
-fn solvers(rtol: f64, atol: f64) -> [Solver; 2] {
-    [
-        Solver::Radau5(Radau5Options {
-            rtol,
-            atol,
-            ..Default::default()
-        }),
-        Solver::Rodas4(Rodas4Options {
-            rtol,
-            atol,
-            ..Default::default()
-        }),
-    ]
-}
-
-/// The state at `t_end` and the work.
-fn run<M: Model>(model: &M, solver: Solver, t_end: f64) -> (Vec<f64>, Stats) {
-    let mut sim = Simulation::new(model, solver).unwrap();
-    let x0 = vec![0.0; M::N_STATES];
-    let stats = sim.run(0.0, &x0, &[t_end], &mut ()).unwrap();
-    (sim.state().to_vec(), stats)
-}
-
-/// The largest difference relative to `atol + rtol |b|`.
-fn scaled_difference(a: &[f64], b: &[f64], rtol: f64, atol: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs() / (atol + rtol * y.abs()))
-        .fold(0.0, f64::max)
 }
 
 /// Directional derivatives of automatic differentiation in a run: `n_jac_rhs` less

@@ -7,39 +7,12 @@
 #[path = "support/pairs.rs"]
 mod pairs;
 
-use bgdsl_runtime::{Model, Radau5Options, Rodas4Options, Simulation, Solver, Stats};
+#[path = "support/pair_runs.rs"]
+mod pair_runs;
+
+use bgdsl_runtime::{Solver, Stats};
+use pair_runs::{run, scaled_difference, solvers};
 use pairs::{Pairs, N};
-
-fn solvers(rtol: f64, atol: f64) -> [Solver; 2] {
-    [
-        Solver::Radau5(Radau5Options {
-            rtol,
-            atol,
-            ..Default::default()
-        }),
-        Solver::Rodas4(Rodas4Options {
-            rtol,
-            atol,
-            ..Default::default()
-        }),
-    ]
-}
-
-/// The state at `t_end` and the work.
-fn run<M: Model>(model: &M, solver: Solver, t_end: f64) -> (Vec<f64>, Stats) {
-    let mut sim = Simulation::new(model, solver).unwrap();
-    let x0 = vec![0.0; M::N_STATES];
-    let stats = sim.run(0.0, &x0, &[t_end], &mut ()).unwrap();
-    (sim.state().to_vec(), stats)
-}
-
-/// The largest difference relative to `atol + rtol |b|`.
-fn scaled_difference(a: &[f64], b: &[f64], rtol: f64, atol: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs() / (atol + rtol * y.abs()))
-        .fold(0.0, f64::max)
-}
 
 /// With pivots that need no help, the sparse path reproduces the banded one to well
 /// within the tolerance, with compressed Jacobians and no fallback; `a_k` follows its
