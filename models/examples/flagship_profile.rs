@@ -7,7 +7,8 @@
 //! `cargo run --release -p models --example flagship_profile -- [reps] [rtol]
 //! [reuse_jacobian_below] [hold_step_min] [hold_step_max]`
 //!
-//! (`NOERR=1` skips the error, `CSVONLY=1` only formats the file, 100 times.)
+//! (`NOERR=1` skips the error, `RUNONLY=1` stops after the timed runs (for `perf`),
+//! `CSVONLY=1` only formats the file, 100 times.)
 
 /// A point in this thread's CPU time.
 struct Instant(f64);
@@ -92,6 +93,9 @@ fn main() {
         let r = record(&m, solver, &times).unwrap();
         walls.push(s.elapsed().as_secs_f64() * 1e3);
         stats = Some(r.stats);
+    }
+    if std::env::var("RUNONLY").is_ok() {
+        return;
     }
     let rec = record(&m, solver, &times).unwrap();
     if std::env::var("CSVONLY").is_ok() {

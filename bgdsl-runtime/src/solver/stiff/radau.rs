@@ -157,6 +157,10 @@ pub(crate) struct Radau5 {
     err_v: Vec<f64>,
     /// Error weights `atol'_i + rtol' |x_i|` of the current step.
     scale: Vec<f64>,
+    /// `1 / scale_i^2`, valid when `scale_positive` (every `scale_i^2 > 0`): the norms
+    /// of the step multiply instead of dividing.
+    inv_scale2: Vec<f64>,
+    scale_positive: bool,
     x_new: Vec<f64>,
     /// Newton-form coefficients of the last accepted step's collocation polynomial
     /// `u(s) = x_new + s (d1 + (s - c2 + 1) (d2 + (s - c1 + 1) d3))`,
@@ -198,6 +202,8 @@ impl Radau5 {
             err_rhs: v(),
             err_v: v(),
             scale: v(),
+            inv_scale2: v(),
+            scale_positive: false,
             x_new: v(),
             dense: [v(), v(), v()],
             dense_t: 0.0,
@@ -225,9 +231,18 @@ impl Radau5 {
         let (c1m1, c2m1) = (k.c1 - 1.0, k.c2 - 1.0);
         let q = h / self.dense_h;
         let (s1, s2, s3) = (k.c1 * q, k.c2 * q, q);
+        let n = z1.len();
         let [d1, d2, d3] = &self.dense;
+        let (d1, d2, d3) = (&d1[..n], &d2[..n], &d3[..n]);
+        let (z2, z3, w1, w2, w3) = (
+            &mut z2[..n],
+            &mut z3[..n],
+            &mut w1[..n],
+            &mut w2[..n],
+            &mut w3[..n],
+        );
         let poly = |s: f64, i: usize| s * (d1[i] + (s - c2m1) * (d2[i] + (s - c1m1) * d3[i]));
-        for i in 0..z1.len() {
+        for i in 0..n {
             let (a, b, c) = (poly(s1, i), poly(s2, i), poly(s3, i));
             z1[i] = a;
             z2[i] = b;
@@ -250,14 +265,15 @@ impl Radau5 {
         let n = start.x.len();
         let dd = self.k.dd.map(|d| d / start.h);
         let [z1, z2, z3] = &self.z;
+        let (z1, z2, z3, f0) = (&z1[..n], &z2[..n], &z3[..n], &start.f0[..n]);
+        let (err_rhs, err_v) = (&mut self.err_rhs[..n], &mut self.err_v[..n]);
         for i in 0..n {
             let v = dd[0] * z1[i] + dd[1] * z2[i] + dd[2] * z3[i];
-            self.err_rhs[i] = v;
-            self.err_v[i] = v + start.f0[i];
+            err_rhs[i] = v;
+            err_v[i] = v + f0[i];
         }
         self.e.solve_real(&mut self.err_v);
-        let scale = &self.scale;
-        let mut err = rms(self.err_v.iter().zip(scale).map(|(e, s)| scaled(*e, *s)), n).max(1e-10);
+        let mut err = self.error_norm().max(1e-10);
         if err >= 1.0 && (start.first || start.after_reject) {
             for i in 0..n {
                 self.stage[i] = start.x[i] + self.err_v[i];
@@ -269,11 +285,98 @@ impl Radau5 {
                     *e += r;
                 }
                 self.e.solve_real(&mut self.err_v);
-                err = rms(self.err_v.iter().zip(scale).map(|(e, s)| scaled(*e, *s)), n).max(1e-10);
+                err = self.error_norm().max(1e-10);
             }
         }
         err
     }
+
+    /// Fills the weights of a step from `x` and their inverse squares.
+    fn set_weights(&mut self, x: &[f64]) {
+        self.tol.weights().fill(x, &mut self.scale);
+        let mut positive = true;
+        for (inv, s) in self.inv_scale2.iter_mut().zip(&self.scale) {
+            let s2 = s * s;
+            positive &= s2 > 0.0;
+            *inv = 1.0 / s2;
+        }
+        self.scale_positive = positive;
+    }
+
+    /// The weighted RMS norm of the error estimate `err_v`.
+    fn error_norm(&self) -> f64 {
+        let n = self.err_v.len();
+        if self.scale_positive {
+            let zero = &self.z[0][..0];
+            (sum_of_weighted_squares(&self.inv_scale2, &self.err_v, zero, zero) / n.max(1) as f64)
+                .sqrt()
+        } else {
+            rms(
+                self.err_v
+                    .iter()
+                    .zip(&self.scale)
+                    .map(|(e, s)| scaled(*e, *s)),
+                n,
+            )
+        }
+    }
+
+    /// The weighted RMS norm of the Newton correction `ΔW` (in `r`).
+    fn correction_norm(&self) -> f64 {
+        let [r1, r2, r3] = &self.r;
+        let n = r1.len();
+        let sum = if self.scale_positive {
+            sum_of_weighted_squares(&self.inv_scale2, r1, r2, r3)
+        } else {
+            let mut sum = 0.0;
+            for (i, s) in self.scale.iter().enumerate() {
+                // A zero weight, or one whose square underflows.
+                let (a, b, c) = (scaled(r1[i], *s), scaled(r2[i], *s), scaled(r3[i], *s));
+                sum += a * a + b * b + c * c;
+            }
+            sum
+        };
+        (sum / (3 * n).max(1) as f64).sqrt()
+    }
+}
+
+/// `Σ_i (a_i^2 + b_i^2 + c_i^2) w_i` over the length of `w`, in four interleaved partial
+/// sums (so that the loop vectorizes); `b` and `c` may be empty (then not summed).
+fn sum_of_weighted_squares(w: &[f64], a: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    let n = w.len();
+    let a = &a[..n];
+    let mut acc = [0.0f64; 4];
+    let mut tail = 0.0;
+    if b.is_empty() {
+        let (wc, ac) = (w.chunks_exact(4), a.chunks_exact(4));
+        let (wr, ar) = (wc.remainder(), ac.remainder());
+        for (w, a) in wc.zip(ac) {
+            for l in 0..4 {
+                acc[l] += a[l] * a[l] * w[l];
+            }
+        }
+        for (w, a) in wr.iter().zip(ar) {
+            tail += a * a * w;
+        }
+    } else {
+        let (b, c) = (&b[..n], &c[..n]);
+        let (wc, ac, bc, cc) = (
+            w.chunks_exact(4),
+            a.chunks_exact(4),
+            b.chunks_exact(4),
+            c.chunks_exact(4),
+        );
+        let rest = n - wc.remainder().len();
+        for (((w, a), b), c) in wc.zip(ac).zip(bc).zip(cc) {
+            for l in 0..4 {
+                acc[l] += (a[l] * a[l] + b[l] * b[l] + c[l] * c[l]) * w[l];
+            }
+        }
+        for i in rest..n {
+            tail += (a[i] * a[i] + b[i] * b[i] + c[i] * c[i]) * w[i];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 impl ImplicitMethod for Radau5 {
@@ -326,7 +429,7 @@ impl ImplicitMethod for Radau5 {
     ) -> Attempt {
         let (t, h, x) = (start.t, start.h, start.x);
         let n = x.len();
-        self.tol.weights().fill(x, &mut self.scale);
+        self.set_weights(x);
         self.starting_values(h);
         let nodes = [self.k.c1, self.k.c2, 1.0];
         let nit = self.max_iterations;
@@ -353,6 +456,8 @@ impl ImplicitMethod for Radau5 {
             }
             let [r1, r2, r3] = &mut self.r;
             let [w1, w2, w3] = &self.w;
+            let (r1, r2, r3) = (&mut r1[..n], &mut r2[..n], &mut r3[..n]);
+            let (w1, w2, w3) = (&w1[..n], &w2[..n], &w3[..n]);
             let (fac1, alphn, betan) = (self.fac1, self.alphn, self.betan);
             for i in 0..n {
                 let (a1, a2, a3) = (r1[i], r2[i], r3[i]);
@@ -368,19 +473,7 @@ impl ImplicitMethod for Radau5 {
             }
             self.e.solve_both(r1, r2, r3);
             iterations += 1;
-            let scale = &self.scale;
-            let mut sum = 0.0;
-            for i in 0..n {
-                let (s, squares) = (scale[i], r1[i] * r1[i] + r2[i] * r2[i] + r3[i] * r3[i]);
-                sum += if s * s > 0.0 {
-                    squares / (s * s)
-                } else {
-                    // A zero weight, or one whose square underflows.
-                    let (a, b, c) = (scaled(r1[i], s), scaled(r2[i], s), scaled(r3[i], s));
-                    a * a + b * b + c * c
-                };
-            }
-            let dyno = (sum / (3 * n).max(1) as f64).sqrt();
+            let dyno = self.correction_norm();
             if !dyno.is_finite() {
                 return Attempt::NewtonFailed {
                     factor: 0.5,
@@ -417,6 +510,10 @@ impl ImplicitMethod for Radau5 {
             dyno_old = dyno.max(f64::EPSILON);
             let [w1, w2, w3] = &mut self.w;
             let [z1, z2, z3] = &mut self.z;
+            let [r1, r2, r3] = &self.r;
+            let (w1, w2, w3) = (&mut w1[..n], &mut w2[..n], &mut w3[..n]);
+            let (z1, z2, z3) = (&mut z1[..n], &mut z2[..n], &mut z3[..n]);
+            let (r1, r2, r3) = (&r1[..n], &r2[..n], &r3[..n]);
             for i in 0..n {
                 let (a, b, c) = (w1[i] + r1[i], w2[i] + r2[i], w3[i] + r3[i]);
                 w1[i] = a;
@@ -454,15 +551,20 @@ impl ImplicitMethod for Radau5 {
 
     fn accept(&mut self, t: f64, h: f64, x: &mut [f64]) {
         let k = &self.k;
-        let (c1m1, c2m1, c1mc2) = (k.c1 - 1.0, k.c2 - 1.0, k.c1 - k.c2);
+        // Reciprocals of the node differences: products vectorize, quotients cost more.
+        let (c1m1, c2m1, c1mc2) = (1.0 / (k.c1 - 1.0), 1.0 / (k.c2 - 1.0), 1.0 / (k.c1 - k.c2));
+        let (rc1, rc2) = (1.0 / k.c1, 1.0 / k.c2);
+        let n = x.len();
         let [z1, z2, z3] = &self.z;
         let [d1, d2, d3] = &mut self.dense;
-        for i in 0..x.len() {
+        let (z1, z2, z3) = (&z1[..n], &z2[..n], &z3[..n]);
+        let (d1, d2, d3) = (&mut d1[..n], &mut d2[..n], &mut d3[..n]);
+        for i in 0..n {
             // Divided differences of u(s) - x_new at s = 0, c2 - 1, c1 - 1, -1.
-            d1[i] = (z2[i] - z3[i]) / c2m1;
-            let ak = (z1[i] - z2[i]) / c1mc2;
-            let acont3 = (ak - z1[i] / k.c1) / k.c2;
-            d2[i] = (ak - d1[i]) / c1m1;
+            d1[i] = (z2[i] - z3[i]) * c2m1;
+            let ak = (z1[i] - z2[i]) * c1mc2;
+            let acont3 = (ak - z1[i] * rc1) * rc2;
+            d2[i] = (ak - d1[i]) * c1m1;
             d3[i] = d2[i] - acont3;
         }
         self.dense_t = t + h;
@@ -475,9 +577,11 @@ impl ImplicitMethod for Radau5 {
         let k = &self.k;
         let (c1m1, c2m1) = (k.c1 - 1.0, k.c2 - 1.0);
         let s = (t - self.dense_t) / self.dense_h;
+        let n = out.len();
         let [d1, d2, d3] = &self.dense;
+        let (d1, d2, d3, x) = (&d1[..n], &d2[..n], &d3[..n], &self.x_new[..n]);
         for (i, o) in out.iter_mut().enumerate() {
-            *o = self.x_new[i] + s * (d1[i] + (s - c2m1) * (d2[i] + (s - c1m1) * d3[i]));
+            *o = x[i] + s * (d1[i] + (s - c2m1) * (d2[i] + (s - c1m1) * d3[i]));
         }
     }
 }
