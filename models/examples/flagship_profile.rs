@@ -1,7 +1,9 @@
 //! The flagship's cost in CPU time (this thread's, so a busy shared machine inflates it
 //! far less than wall time): the 0–5 s Radau5 run, its achieved error against rtol
 //! 1e-10, the results file's formatting and writing, and one f64 derivative as the
-//! anchor. For profiling (`perf record` on the release binary) and for comparing
+//! anchor. The solver is the flagship's (`models::catalog::flagship_solver`), with
+//! `rtol` and the reuse settings overridable (`NEWTON_TOL=x` sets the Newton
+//! tolerance). For profiling (`perf record` on the release binary) and for comparing
 //! Radau5's reuse settings:
 //!
 //! `cargo run --release -p models --example flagship_profile -- [reps] [rtol]
@@ -32,6 +34,7 @@ impl Dur {
     }
 }
 use bgdsl_runtime::{Model, Radau5Options, Solver};
+use models::catalog::flagship_solver;
 use models::quick_return::results::{sample_times, COLUMNS};
 use models::quick_return::run::{record, Recorded};
 use models::quick_return::QuickReturn;
@@ -57,7 +60,9 @@ fn main() {
     let get = |i: usize, d: f64| args.get(i).map(|s| s.parse().unwrap()).unwrap_or(d);
     let reps = get(1, 30.0) as usize;
     let rtol = get(2, 1e-6);
-    let d = Radau5Options::default();
+    let Solver::Radau5(d) = flagship_solver() else {
+        unreachable!("the flagship's solver is Radau5")
+    };
     let reuse = get(3, d.reuse_jacobian_below);
     let hmin = get(4, d.hold_step_min);
     let hmax = get(5, d.hold_step_max);
@@ -65,11 +70,11 @@ fn main() {
     let times = sample_times();
     let solver = Solver::Radau5(Radau5Options {
         rtol,
-        atol: 1e-10,
         reuse_jacobian_below: reuse,
         hold_step_min: hmin,
         hold_step_max: hmax,
-        ..Default::default()
+        newton_tol: std::env::var("NEWTON_TOL").ok().map(|v| v.parse().unwrap()),
+        ..d
     });
     let err = if std::env::var("NOERR").is_err() {
         let reference = record(
