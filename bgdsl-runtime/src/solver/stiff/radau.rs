@@ -157,8 +157,8 @@ pub(crate) struct Radau5 {
     err_v: Vec<f64>,
     /// Error weights `atol'_i + rtol' |x_i|` of the current step.
     scale: Vec<f64>,
-    /// `1 / scale_i^2`, valid when `scale_positive` (every `scale_i^2 > 0`): the norms
-    /// of the step multiply instead of dividing.
+    /// `1 / scale_i^2`, valid when `scale_positive` (every one finite): the norms of the
+    /// step multiply instead of dividing.
     inv_scale2: Vec<f64>,
     scale_positive: bool,
     x_new: Vec<f64>,
@@ -296,9 +296,10 @@ impl Radau5 {
         self.tol.weights().fill(x, &mut self.scale);
         let mut positive = true;
         for (inv, s) in self.inv_scale2.iter_mut().zip(&self.scale) {
-            let s2 = s * s;
-            positive &= s2 > 0.0;
-            *inv = 1.0 / s2;
+            *inv = 1.0 / (s * s);
+            // A zero weight, or one whose square underflows or is so small that its
+            // inverse overflows: then the norms divide, through `scaled`.
+            positive &= inv.is_finite();
         }
         self.scale_positive = positive;
     }
