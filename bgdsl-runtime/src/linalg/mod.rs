@@ -27,6 +27,7 @@
 //! showed a new non-zero) gets new storage.
 
 mod banded;
+pub(crate) mod bench;
 mod sparse;
 mod symbolic;
 
