@@ -30,6 +30,12 @@ impl Matrices {
         self.sparse
     }
 
+    /// The sparse factors' entries and the multiply-adds of one real factorization of
+    /// the Jacobians' numerical pattern so far (none when banded).
+    pub fn sparse_size(&self) -> Option<(usize, usize)> {
+        self.pair.sparse_size()
+    }
+
     /// Factors `γ I - J` and `(α + iβ) I - J` for `shifts = [γ, α, β]`; `new_jacobian`
     /// says that `jac` may differ from the last call's. Returns whether the planned
     /// factorization succeeded (`false`: the fallback with partial pivoting was used,

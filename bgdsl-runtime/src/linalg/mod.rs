@@ -266,6 +266,12 @@ impl RadauMatrices {
         Ok(planned)
     }
 
+    /// The sparse factors' entries and the multiply-adds of one real factorization of
+    /// the numerical pattern (none when banded).
+    pub fn sparse_size(&self) -> Option<(usize, usize)> {
+        self.sparse.as_ref().map(SparseRadauLu::size)
+    }
+
     /// Solves `E1 x = b` with the last successful factorization, overwriting `b`.
     pub fn solve_real(&self, b: &mut [f64]) {
         match (&self.sparse, &self.banded) {

@@ -374,6 +374,12 @@ impl SparseRadauLu {
         self.pattern.restart();
     }
 
+    /// Entries of the factors of the current numerical pattern, and multiply-adds of
+    /// one real factorization.
+    pub fn size(&self) -> (usize, usize) {
+        (self.pattern.sym.nnz, self.pattern.sym.flops)
+    }
+
     /// Factors `E1 = gamma I - jac` and `E2 = (alpha + i beta) I - jac` (`jac` stored over
     /// the structural pattern); `new_jacobian` says that `jac`
     /// may differ from the last call's. Fails if either matrix fails the stability
