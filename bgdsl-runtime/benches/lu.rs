@@ -14,7 +14,6 @@
 //! on a shared machine.
 
 #[path = "../tests/stiff_common/mod.rs"]
-#[allow(dead_code)]
 mod stiff_common;
 
 use std::hint::black_box;
