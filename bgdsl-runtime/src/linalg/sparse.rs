@@ -482,14 +482,12 @@ impl SparseRadauLu {
         let s = self.pattern.sym();
         debug_assert!(b.len() == s.n && c_re.len() == s.n && c_im.len() == s.n);
         let val = &self.val;
-        // The right-hand sides in elimination order.
+        // The solutions in elimination order (each right-hand side read where its row
+        // is reached, each solution written out when it is final).
         let [y1, yr, yi] = &mut self.work;
         for (k, &i) in s.perm.iter().enumerate() {
-            (y1[k], yr[k], yi[k]) = (b[i], c_re[i], c_im[i]);
-        }
-        for k in 0..s.n {
             let (start, d) = (s.row_start[k], s.diag[k]);
-            let (mut a1, mut ar, mut ai) = (y1[k], yr[k], yi[k]);
+            let (mut a1, mut ar, mut ai) = (b[i], c_re[i], c_im[i]);
             for (&c, &[l1, lr, li]) in s.step[start..d].iter().zip(&val[start..d]) {
                 let c = c as usize;
                 let (x1, xr, xi) = (y1[c], yr[c], yi[c]);
@@ -511,8 +509,7 @@ impl SparseRadauLu {
             }
             let [p1, pr, pi] = self.inv[k];
             (y1[k], yr[k], yi[k]) = (a1 * p1, ar * pr - ai * pi, ar * pi + ai * pr);
-        }
-        for (k, &i) in s.perm.iter().enumerate() {
+            let i = s.perm[k];
             (b[i], c_re[i], c_im[i]) = (y1[k], yr[k], yi[k]);
         }
     }
