@@ -89,6 +89,14 @@ pub use tangent::Tangent;
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
 
+/// The LU kernels of the stiff solvers, for the benches (`benches/lu.rs`). Not a public
+/// API: it may change at any time.
+#[doc(hidden)]
+#[cfg(feature = "std")]
+pub mod __bench {
+    pub use crate::linalg::bench::Matrices;
+}
+
 /// Items the generated code refers to. Not a public API: it may change at any time.
 #[doc(hidden)]
 pub mod __private {

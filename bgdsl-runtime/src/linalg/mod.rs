@@ -27,6 +27,7 @@
 //! showed a new non-zero) gets new storage.
 
 mod banded;
+pub(crate) mod bench;
 mod sparse;
 mod symbolic;
 
@@ -263,6 +264,12 @@ impl RadauMatrices {
         complex.set_shifted(alpha, beta, jac);
         complex.factor()?;
         Ok(planned)
+    }
+
+    /// The sparse factors' entries and the multiply-adds of one real factorization of
+    /// the numerical pattern (none when banded).
+    pub fn sparse_size(&self) -> Option<(usize, usize)> {
+        self.sparse.as_ref().map(SparseRadauLu::size)
     }
 
     /// Solves `E1 x = b` with the last successful factorization, overwriting `b`.
