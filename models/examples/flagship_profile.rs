@@ -73,7 +73,10 @@ fn main() {
         reuse_jacobian_below: reuse,
         hold_step_min: hmin,
         hold_step_max: hmax,
-        newton_tol: std::env::var("NEWTON_TOL").ok().map(|v| v.parse().unwrap()),
+        newton_tol: std::env::var("NEWTON_TOL")
+            .ok()
+            .map(|v| v.parse().unwrap())
+            .or(d.newton_tol),
         ..d
     });
     let err = if std::env::var("NOERR").is_err() {
