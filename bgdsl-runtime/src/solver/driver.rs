@@ -378,20 +378,7 @@ impl<'m, M: Model> Simulation<'m, M> {
                 found: atol.len(),
             });
         }
-        for (i, &a) in atol.iter().enumerate() {
-            let expected = if !(a.is_finite() && a >= 0.0) {
-                "a finite number >= 0"
-            } else if a == 0.0 && rtol == 0.0 {
-                "a number > 0 (rtol is 0)"
-            } else {
-                continue;
-            };
-            return Err(SolverError::InvalidAtol {
-                state: M::STATE_NAMES.get(i).copied().unwrap_or("?"),
-                value: a,
-                expected,
-            });
-        }
+        super::options::check_atol(rtol, atol, M::STATE_NAMES)?;
         if let Kernel::Stiff(k) = &mut self.kernel {
             k.set_tolerances(&Tolerances {
                 rtol,

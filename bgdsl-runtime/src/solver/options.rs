@@ -333,6 +333,32 @@ impl DormandPrinceOptions {
     }
 }
 
+/// Checks per-state absolute tolerances (one per name of `names`, in order) against
+/// relative tolerance `rtol`: each finite and `>= 0`, and `> 0` where `rtol` is 0.
+/// Shared by `Simulation::set_atol` and the allocation-free
+/// [`DormandPrince::set_atol`](crate::rk::DormandPrince::set_atol).
+pub(crate) fn check_atol(
+    rtol: f64,
+    atol: &[f64],
+    names: &'static [&'static str],
+) -> Result<(), SolverError> {
+    for (i, &a) in atol.iter().enumerate() {
+        let expected = if !(a.is_finite() && a >= 0.0) {
+            "a finite number >= 0"
+        } else if a == 0.0 && rtol == 0.0 {
+            "a number > 0 (rtol is 0)"
+        } else {
+            continue;
+        };
+        return Err(SolverError::InvalidAtol {
+            state: names.get(i).copied().unwrap_or("?"),
+            value: a,
+            expected,
+        });
+    }
+    Ok(())
+}
+
 pub(super) fn check(
     option: &'static str,
     value: f64,
