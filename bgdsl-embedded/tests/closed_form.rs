@@ -267,7 +267,7 @@ fn bad_ticks_and_settings_are_errors() {
     let (mut t, mut x) = (0.0, [0.0; 2]);
     assert!(matches!(
         rk4.step(&Motor::default(), &mut t, &mut x, 0.0),
-        Err(SolverError::StepSizeTooSmall { .. })
+        Err(SolverError::FixedStepTooSmall { step: 0.0, .. })
     ));
     assert!(matches!(
         DormandPrince::<2>::new(DormandPrinceOptions {

@@ -22,6 +22,7 @@
 //!   eigenvalues from about −10 to −4000, stiff) with 1,000 and 10,000 states, sparse
 //!   (split order), to `t = 1`; reference Radau5 at `rtol = 1e-11`, error relative to
 //!   the initial amplitude 0.01; the same chain interleaved (banded LU) at 10,000; and
+//!   the same sparse chain driven by `sin(5 t)` at its end to `t = 10` (a long run);
 //!   the block chain (dense 20-state blocks coupled to their neighbours, rates 1 to
 //!   1000: a stand-in for rigid bodies in a chain) at 1,000 and 10,000, error relative
 //!   to its amplitude 0.1.
@@ -267,17 +268,49 @@ fn stiff_chain<const S: usize, const NNZ: usize>() -> MassChain<S, NNZ> {
     MassChain { k: 1e4, c: 1e3 }
 }
 
+/// A [`MassChain`] driven at its last mass by a force `sin(5 t)` N: it keeps moving, so
+/// a long run has work to do after the transient (the same Jacobian pattern).
+struct Forced<const S: usize, const NNZ: usize>(MassChain<S, NNZ>);
+
+impl<const S: usize, const NNZ: usize> Model for Forced<S, NNZ> {
+    type Params = ();
+    const NAME: &'static str = "forced_chain";
+    const STATE_NAMES: &'static [&'static str] = MassChain::<S, NNZ>::STATE_NAMES;
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    const JACOBIAN_SPARSITY: Option<&'static [&'static [usize]]> =
+        MassChain::<S, NNZ>::JACOBIAN_SPARSITY;
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        self.0.initial_state(x0);
+    }
+    fn derivatives<T: Scalar>(&self, t: f64, x: &[T], dx: &mut [T]) {
+        self.0.derivatives(t, x, dx);
+        // The last mass's velocity: the last state (interleaved) or the last of the
+        // velocities (split); both are index S - 1.
+        dx[S - 1] += T::from_f64((5.0 * t).sin());
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
 /// `model` to `t = 1` against Radau5 at `rtol = 1e-11`, the error relative to `scale`
 /// (the initial amplitude), `atol = 1e-2 rtol scale`.
 fn large_study<M: Model>(model: &M, label: &str, scale: f64, rtols: &[f64]) {
+    long_study(model, label, 1.0, scale, rtols);
+}
+
+/// [`large_study`] to `t_end`.
+fn long_study<M: Model>(model: &M, label: &str, t_end: f64, scale: f64, rtols: &[f64]) {
     let tight = Solver::Radau5(Radau5Options {
         rtol: 1e-11,
         atol: 1e-12 * scale,
+        max_steps: 1_000_000,
         ..Default::default()
     });
-    let (reference, _) = solve(model, tight, 1.0);
+    let (reference, _) = solve(model, tight, t_end);
     let error = absolute_over(&reference, scale);
-    study(model, label, 1.0, rtols, 1e-2 * scale, &error);
+    study(model, label, t_end, rtols, 1e-2 * scale, &error);
 }
 
 const SWEEP: [f64; 7] = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
@@ -319,6 +352,9 @@ fn large_models() {
     large_study(&stiff_chain::<10000, 34996>(), chain, 0.01, &rtols);
     let banded = "stiff mass chain, banded";
     large_study(&stiff_chain::<10000, 0>(), banded, 0.01, &rtols);
+    let forced = "forced stiff mass chain, sparse, to t = 10";
+    long_study(&Forced(stiff_chain::<1000, 3496>()), forced, 10.0, 0.01, &rtols);
+    long_study(&Forced(stiff_chain::<10000, 34996>()), forced, 10.0, 0.01, &rtols);
     let blocks = "block chain (dense 20-state blocks)";
     large_study(&BlockChain::<1000>, blocks, 0.1, &rtols);
     large_study(&BlockChain::<10000>, blocks, 0.1, &rtols);

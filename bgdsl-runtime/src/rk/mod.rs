@@ -270,7 +270,7 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
             });
         }
         if h < min_step(*t) {
-            return Err(SolverError::StepSizeTooSmall { t: *t, h });
+            return Err(SolverError::FixedStepTooSmall { t: *t, step: h });
         }
         check_start::<M>(*t, x)?;
         self.hybrid.begin(model, *t, x, &mut self.stats)?;

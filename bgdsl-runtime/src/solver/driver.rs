@@ -544,15 +544,12 @@ impl<'m, M: Model> Simulation<'m, M> {
         Ok(self.stats)
     }
 
-    /// A fixed-step failure that stiffness explains (non-finite values or a vanishing
-    /// step, with `step` beyond the method's stability limit on the largest eigenvalue of
-    /// the Jacobian at the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`];
-    /// any other is returned as it is.
+    /// A fixed-step failure that stiffness explains (non-finite values, with `step`
+    /// beyond the method's stability limit on the largest eigenvalue of the Jacobian at
+    /// the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`]; any other (a step
+    /// below the time axis' resolution, events, budgets) is returned as it is.
     fn diagnose_fixed(&self, cause: SolverError, step: f64, t0: f64, x0: &[f64]) -> SolverError {
-        let explicable = matches!(
-            cause,
-            SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
-        );
+        let explicable = matches!(cause, SolverError::NonFiniteState { .. });
         if !explicable {
             // Events, budgets: nothing stiffness explains (and no estimate to allocate).
             return cause;
