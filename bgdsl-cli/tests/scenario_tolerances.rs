@@ -37,8 +37,7 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("bgdsl-cli-tol-{name}-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("bgdsl-cli-tol-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).unwrap();
         Scratch(dir)
@@ -89,7 +88,11 @@ fn csv_states(dir: &Path) -> Vec<(f64, [f64; 2])> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (t, x0, x1) = (at("t"), at(Damped::STATE_NAMES[0]), at(Damped::STATE_NAMES[1]));
+    let (t, x0, x1) = (
+        at("t"),
+        at(Damped::STATE_NAMES[0]),
+        at(Damped::STATE_NAMES[1]),
+    );
     lines
         .map(|line| {
             let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
@@ -179,7 +182,8 @@ fn per_state_atol_is_the_run_of_set_atol() {
     // The run record says what was set.
     let record = fs::read_to_string(plan.out_dir.join("run.yaml")).unwrap();
     assert!(
-        record.contains("  atol: 0.01\n  max_steps: 100000\n  atol_by_state:\n    spring.q: 1e-9\n"),
+        record
+            .contains("  atol: 0.01\n  max_steps: 100000\n  atol_by_state:\n    spring.q: 1e-9\n"),
         "{record}"
     );
 }
@@ -236,7 +240,10 @@ solver:
     // Unconstrained, the loose run ends slightly below zero (measured -1.6e-6).
     assert!(lowest < 0.0, "{lowest}");
     let record = fs::read_to_string(plan.out_dir.join("run.yaml")).unwrap();
-    assert!(record.contains("  non_negative:\n  - spring.q\n"), "{record}");
+    assert!(
+        record.contains("  non_negative:\n  - spring.q\n"),
+        "{record}"
+    );
 }
 
 #[test]

@@ -158,7 +158,10 @@ fn per_state_atol_reaches_the_drop() {
     assert_eq!(scalar.len(), per_state.len());
     assert!(scalar.len() >= 2, "{scalar:?}");
     assert_eq!(scalar, per_state);
-    assert!((scalar[0] - (2.0f64 / 9.81).sqrt()).abs() < 1e-12, "{scalar:?}");
+    assert!(
+        (scalar[0] - (2.0f64 / 9.81).sqrt()).abs() < 1e-12,
+        "{scalar:?}"
+    );
     let mut drop = BallDrop::new(BouncingBallParams::default(), options).unwrap();
     atol[height] = f64::INFINITY;
     let err = drop.set_atol(Some(atol)).unwrap_err();

@@ -152,7 +152,10 @@ fn blow_up_is_an_error_for_the_adaptive_method() {
     }
     let message = err.to_string();
     assert!(message.starts_with("at t = 1.0000002"), "{err}");
-    assert!(message.contains(", dopri5's step size fell to 3.3"), "{err}");
+    assert!(
+        message.contains(", dopri5's step size fell to 3.3"),
+        "{err}"
+    );
     assert!(
         message.ends_with(
             "e-15, below the resolution of the time axis (16 * eps * |t|): the solution may \

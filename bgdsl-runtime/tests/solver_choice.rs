@@ -29,9 +29,9 @@
 //!
 //! The flagship's rows come from `models/tests/solver_choice.rs`.
 
-mod stiff_common;
 #[path = "support/large_chains.rs"]
 mod large_chains;
+mod stiff_common;
 
 use bgdsl_runtime::{
     DormandPrinceOptions, Model, Radau5Options, Rodas4Options, Rodas5POptions, Scalar, Simulation,
@@ -191,7 +191,10 @@ fn study<M: Model>(
     };
     for (rtol, target) in [1e-3, 1e-6].map(|r| (r, radau_error(r))) {
         let Some(target) = target else {
-            println!("SUMMARY | {label} | {} | radau5 at {rtol:.0e} failed |", M::N_STATES);
+            println!(
+                "SUMMARY | {label} | {} | radau5 at {rtol:.0e} failed |",
+                M::N_STATES
+            );
             continue;
         };
         let anchor = cost_at(&runs[0], target).map(|(t, _)| t);
@@ -334,7 +337,14 @@ fn small_models() {
     );
     let rober = relative_to(&ROBERTSON_REF);
     study(&Robertson, "ROBER", 1e11, &SWEEP, 1e-8, &rober);
-    study(&VanDerPol, "VDPOL", 2.0, &SWEEP, 1.0, &relative_to(&VDP_REF));
+    study(
+        &VanDerPol,
+        "VDPOL",
+        2.0,
+        &SWEEP,
+        1.0,
+        &relative_to(&VDP_REF),
+    );
     let hires = relative_to(&HIRES_REF);
     study(&Hires, "HIRES", HIRES_T_END, &SWEEP, 1e-3, &hires);
     let orego = relative_to(&OREGO_REF);
@@ -353,8 +363,20 @@ fn large_models() {
     let banded = "stiff mass chain, banded";
     large_study(&stiff_chain::<10000, 0>(), banded, 0.01, &rtols);
     let forced = "forced stiff mass chain, sparse, to t = 10";
-    long_study(&Forced(stiff_chain::<1000, 3496>()), forced, 10.0, 0.01, &rtols);
-    long_study(&Forced(stiff_chain::<10000, 34996>()), forced, 10.0, 0.01, &rtols);
+    long_study(
+        &Forced(stiff_chain::<1000, 3496>()),
+        forced,
+        10.0,
+        0.01,
+        &rtols,
+    );
+    long_study(
+        &Forced(stiff_chain::<10000, 34996>()),
+        forced,
+        10.0,
+        0.01,
+        &rtols,
+    );
     let blocks = "block chain (dense 20-state blocks)";
     large_study(&BlockChain::<1000>, blocks, 0.1, &rtols);
     large_study(&BlockChain::<10000>, blocks, 0.1, &rtols);

@@ -200,7 +200,10 @@ fn flagship_default_solver() {
                     }
                     Err(e) => {
                         let text: String = e.to_string().chars().take(100).collect();
-                        println!("| {rtol:.0e} | {} | failed: {text} | | | | | |", solver.name());
+                        println!(
+                            "| {rtol:.0e} | {} | failed: {text} | | | | | |",
+                            solver.name()
+                        );
                         break;
                     }
                 }
