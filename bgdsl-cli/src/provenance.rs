@@ -228,6 +228,13 @@ pub struct SolverRecord {
     /// The wall-time limit, s (stiff methods; absent: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_wall_time: Option<f64>,
+    /// Absolute tolerances by state name, for the states whose atol is not `atol`
+    /// (a scenario's per-state `solver.atol`; absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atol_by_state: Option<Mapping>,
+    /// The states held at or above zero (a scenario's `solver.non_negative`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub non_negative: Vec<String>,
 }
 
 impl SolverRecord {
@@ -242,6 +249,8 @@ impl SolverRecord {
             max_step: None,
             max_steps: 0,
             max_wall_time: None,
+            atol_by_state: None,
+            non_negative: Vec::new(),
         };
         match solver {
             Solver::Rk4(o) | Solver::DormandPrinceFixed(o) => {
@@ -496,7 +505,23 @@ impl RunRecord {
             },
             samples: plan.times.len(),
             plots,
-            solver: SolverRecord::of(&plan.solver),
+            solver: {
+                let mut record = SolverRecord::of(&plan.solver);
+                record.atol_by_state = plan.atol.as_ref().map(|atol| {
+                    names
+                        .iter()
+                        .zip(atol)
+                        .filter(|(_, a)| Some(**a) != record.atol)
+                        .map(|(n, a)| (Value::from(*n), Value::from(*a)))
+                        .collect()
+                });
+                record.non_negative = plan
+                    .non_negative
+                    .iter()
+                    .map(|&i| names[i].to_owned())
+                    .collect();
+                record
+            },
             solver_options: format!("{:?}", plan.solver),
             results: results
                 .iter()

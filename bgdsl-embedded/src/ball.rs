@@ -95,6 +95,21 @@ impl BallDrop {
         BouncingBallState::from_slice(&self.x)
     }
 
+    /// Gives the ball's states their own absolute tolerances for later ticks
+    /// ([`DormandPrince::set_atol`], in the order of
+    /// [`BouncingBall::STATE_NAMES`]); `None` goes back to the options' `atol`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolverError::InvalidAtol`] naming the first state whose entry is negative or
+    /// not finite (or 0 with `rtol = 0`); the tolerances are then unchanged.
+    pub fn set_atol(
+        &mut self,
+        atol: Option<[f64; BouncingBall::N_STATES]>,
+    ) -> Result<(), SolverError> {
+        self.integrator.set_atol::<BouncingBall>(atol)
+    }
+
     /// Follows the ball for `dt` seconds, handling its impacts on the way; their times
     /// (at most two per tick are listed, more are counted) are in
     /// [`BallDrop::impacts`]. Fails if `dt` is negative or not finite, or if the

@@ -125,3 +125,48 @@ fn ball_on_rk4_bounces_as_the_closed_form() {
     println!("rk4: {} impacts within {worst:.1e} s", events.len());
     assert!(worst < 1e-9, "impact times off by {worst:e}");
 }
+
+/// `BallDrop::set_atol`: a bad entry is refused naming the state; good ones are taken.
+/// Free flight is a parabola, which Dormand–Prince integrates exactly (its error
+/// estimate is rounding), so the tolerances do not move the impacts: both runs find the
+/// same times, the first at `sqrt(2 h / g)` to 1e-12 s. (That per-state atol changes
+/// a run is `closed_form.rs`' motor test.)
+#[test]
+fn per_state_atol_reaches_the_drop() {
+    let options = bgdsl_runtime::DormandPrinceOptions {
+        rtol: 1e-6,
+        atol: 1e-6,
+        ..Default::default()
+    };
+    let impacts = |atol: Option<[f64; BouncingBall::N_STATES]>| {
+        let mut drop = BallDrop::new(BouncingBallParams::default(), options).unwrap();
+        drop.set_atol(atol).unwrap();
+        let mut times = Vec::new();
+        for _ in 0..300 {
+            drop.tick(0.01).unwrap();
+            times.extend_from_slice(drop.impacts().0);
+        }
+        times
+    };
+    let height = BouncingBall::STATE_NAMES
+        .iter()
+        .position(|n| *n == "height")
+        .unwrap();
+    let mut atol = [1e-6; BouncingBall::N_STATES];
+    atol[height] = 1e-12;
+    let (scalar, per_state) = (impacts(None), impacts(Some(atol)));
+    assert_eq!(scalar.len(), per_state.len());
+    assert!(scalar.len() >= 2, "{scalar:?}");
+    assert_eq!(scalar, per_state);
+    assert!(
+        (scalar[0] - (2.0f64 / 9.81).sqrt()).abs() < 1e-12,
+        "{scalar:?}"
+    );
+    let mut drop = BallDrop::new(BouncingBallParams::default(), options).unwrap();
+    atol[height] = f64::INFINITY;
+    let err = drop.set_atol(Some(atol)).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "invalid absolute tolerance inf for state `height`: expected a finite number >= 0"
+    );
+}

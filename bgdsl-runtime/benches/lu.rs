@@ -6,12 +6,13 @@
 //!
 //! `cargo bench -p bgdsl-runtime --bench lu`
 //!
-//! CPU times (best of 30 batches), per matrix: Radau5's factorization of the pair `γ/h I - J`,
-//! `(α + iβ)/h I - J` after a new Jacobian (the numerical pattern's values taken in)
-//! and with the same Jacobian (a new step size), `solve_both` and `solve_real`; and as
-//! the anchor, in the same run, a dense LU with partial pivoting of the same real
-//! matrix (nalgebra) and its solve. Ratios to the anchor are what compares across runs
-//! on a shared machine.
+//! Prints, per matrix, the thread CPU time of one call (best of 30 batches of about
+//! 2 ms; wall time is meaningless on the shared build machine): Radau5's factorization
+//! of the pair `γ/h I - J`, `(α + iβ)/h I - J` after a new Jacobian (the numerical
+//! pattern's values taken in) and with the same Jacobian (a new step size),
+//! `solve_both` and `solve_real`; and as the anchor, in the same run, a dense LU with
+//! partial pivoting of the same real matrix (nalgebra) and its solve. Ratios to the
+//! anchor are what compares across runs. Results: `docs/flagship-speed.md`.
 
 #[path = "../tests/stiff_common/mod.rs"]
 mod stiff_common;

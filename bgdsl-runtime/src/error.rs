@@ -31,14 +31,27 @@ pub enum SolverError {
         /// Whether the state itself or its derivative was non-finite.
         kind: NonFiniteKind,
     },
-    /// The adaptive step size fell below the resolution of the time axis,
-    /// `16 * f64::EPSILON * |t|` (and at least [`MIN_STEP`](crate::solver::MIN_STEP)),
-    /// or a fixed step is that small.
+    /// Dormand–Prince's adaptive step size fell below the resolution of the time axis,
+    /// `16 * f64::EPSILON * |t|` (and at least [`MIN_STEP`](crate::solver::MIN_STEP)).
+    /// Only the explicit adaptive method fails this way: the implicit ones report
+    /// [`SolverError::StepUnderflow`] (naming the state and its tolerance), the
+    /// fixed-step ones [`SolverError::FixedStepTooSmall`].
     StepSizeTooSmall {
         /// The time reached.
         t: f64,
         /// The step size that was too small.
         h: f64,
+    },
+    /// A fixed step (of [`Solver::Rk4`](crate::Solver::Rk4),
+    /// [`Solver::DormandPrinceFixed`](crate::Solver::DormandPrinceFixed) or
+    /// [`rk::Rk4`](crate::rk::Rk4)) is below the resolution of the time axis where the
+    /// run starts or ends (`16 * f64::EPSILON * |t|`, at least
+    /// [`MIN_STEP`](crate::solver::MIN_STEP)): the steps would not advance the time.
+    FixedStepTooSmall {
+        /// Where the run (or the step) starts.
+        t: f64,
+        /// The step asked for.
+        step: f64,
     },
     /// The step budget (`max_steps`, counting accepted and rejected steps) ran out
     /// before the last sample time.
@@ -377,11 +390,19 @@ impl fmt::Display for SolverError {
             ),
             SolverError::StepSizeTooSmall { t, h } => write!(
                 f,
-                "at t = {}, the step size fell to {}, below the resolution of the time axis \
-                 (16 * eps * |t|): the solution may have a singularity there, or the problem \
-                 is too stiff for an explicit method",
+                "at t = {}, dopri5's step size fell to {}, below the resolution of the time \
+                 axis (16 * eps * |t|): the solution may have a singularity there (it escapes \
+                 to infinity or jumps), or the model is too stiff for this explicit method \
+                 (use a stiff solver: Solver::stiff(), radau5)",
                 Num(*t),
                 Num(*h)
+            ),
+            SolverError::FixedStepTooSmall { t, step } => write!(
+                f,
+                "the fixed step {} is below the resolution of the time axis at t = {} \
+                 (16 * eps * |t|): the steps would not advance the time; use a larger step",
+                Num(*step),
+                Num(*t)
             ),
             SolverError::StepBudgetExhausted { t, t_end, steps } => write!(
                 f,

@@ -108,14 +108,23 @@ pub trait Model {
         false
     }
 
-    /// The solver a run uses when the caller names none. Bond-graph models of mechanisms
-    /// are stiff by construction (stiff compliant joints stand in for constraints), so
-    /// the default is Radau IIA of order 5 ([`Solver::stiff`](crate::Solver::stiff)),
-    /// which is also correct, if not the cheapest, on non-stiff models: among the stiff
-    /// methods it was the fastest at equal accuracy on models of every size measured
-    /// (4 to 10,000 states), except small ones at loose tolerances (`docs/solvers.md`).
-    /// A model that knows better overrides this. (Only with the `std` feature, which
-    /// the solvers it names need.)
+    /// The solver a run uses when the caller names none: Radau IIA of order 5
+    /// ([`Solver::stiff`](crate::Solver::stiff)) at every size, the measured best for
+    /// stiff models (`docs/solvers.md`, made by `bgdsl-runtime`'s and `models`'
+    /// `tests/solver_choice.rs`). CPU time at Radau5's own achieved error at the
+    /// default `rtol`, 2 to 10,000 states:
+    /// - Radau5 leads on the flagship (Rodas5P 2.2x, Dormand–Prince 49x), on the Bari
+    ///   problems (1.2–3.9x) and on long runs of large models (1.8x).
+    /// - Rodas5P is ahead by 8–14 % only on short transients of large models, which
+    ///   the size cannot tell from long runs.
+    /// - Dormand–Prince is 2.4–2.9x faster on non-stiff models, but a model does not
+    ///   declare that it is non-stiff. Bond-graph models are mostly stiff (stiff
+    ///   compliant joints stand in for constraints), and on a stiff model
+    ///   Dormand–Prince costs 7–120x or stops with `StiffnessDetected`.
+    ///
+    /// So the default does not depend on [`Model::N_STATES`]. A model known to be
+    /// non-stiff overrides this (with [`Solver::dopri5`](crate::Solver::dopri5)).
+    /// (Only with the `std` feature, which the solvers it names need.)
     #[cfg(feature = "std")]
     fn default_solver(&self) -> crate::solver::Solver {
         crate::solver::Solver::stiff()

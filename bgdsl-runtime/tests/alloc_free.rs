@@ -129,3 +129,27 @@ fn stepping_allocates_nothing_after_set_up() {
     result.unwrap();
     assert!(n > 0, "the counting allocator saw nothing");
 }
+
+/// The allocation-free Dormand–Prince of `rk` with per-state tolerances
+/// (`set_atol`) allocates nothing, neither setting them nor stepping with them.
+#[test]
+fn no_std_dormand_prince_with_per_state_atol_allocates_nothing() {
+    use bgdsl_runtime::rk::DormandPrince;
+    let model = Pendulum {
+        params: PendulumParams {
+            g_over_l: 9.81,
+            damping: 0.1,
+            drive: 0.5,
+        },
+    };
+    let mut dopri = DormandPrince::<2>::new(DormandPrinceOptions::default()).unwrap();
+    let (mut t, mut x) = (0.0, [1.0, 0.0]);
+    let (n, result) = allocations_in(|| {
+        dopri.set_atol::<Pendulum>(Some([1e-12, 1e-6]))?;
+        dopri.advance_to(&model, &mut t, &mut x, 50.0)
+    });
+    result.unwrap();
+    assert_eq!(n, 0, "allocations with per-state atol");
+    assert_eq!(t, 50.0);
+    assert!(dopri.stats().accepted >= 100, "{:?}", dopri.stats());
+}

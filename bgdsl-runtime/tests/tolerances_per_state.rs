@@ -128,3 +128,57 @@ fn bad_per_state_atol_is_refused_naming_the_state() {
         "`set_atol` is not available with rk4: a fixed-step method controls no error"
     );
 }
+
+/// The allocation-free Dormand–Prince of `rk` (the `no_std` integrator) with per-state
+/// atol takes the driver's steps with the same atol, bit for bit: HIRES (8 states,
+/// mildly stiff, to t = 5) with a tight atol on the two smallest species and a loose
+/// one elsewhere. The per-state tolerances matter (the run differs from the scalar
+/// one), and a bad entry is refused naming the state.
+#[test]
+fn the_no_std_dormand_prince_takes_the_drivers_steps() {
+    use bgdsl_runtime::rk::DormandPrince;
+    use bgdsl_runtime::Model;
+    use stiff_common::Hires;
+
+    let options = DormandPrinceOptions {
+        rtol: 1e-6,
+        atol: 1e-4,
+        ..Default::default()
+    };
+    let atol = [1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-10, 1e-10];
+    let t_end = 5.0;
+    let mut x0 = [0.0; 8];
+    Hires.initial_state(&mut x0);
+
+    let mut sim = Simulation::new(&Hires, Solver::DormandPrince(options)).unwrap();
+    sim.set_atol(&atol).unwrap();
+    let driver = sim.run(0.0, &x0, &[t_end], &mut ()).unwrap();
+
+    let mut dopri = DormandPrince::<8>::new(options).unwrap();
+    dopri.set_atol::<Hires>(Some(atol)).unwrap();
+    assert_eq!(dopri.atol(), Some(&atol));
+    let (mut t, mut x) = (0.0, x0);
+    dopri.advance_to(&Hires, &mut t, &mut x, t_end).unwrap();
+    assert_eq!(t, t_end);
+    assert_eq!(x, sim.state(), "the same end state, bit for bit");
+    let embedded = dopri.stats();
+    assert_eq!(
+        (embedded.accepted, embedded.rejected),
+        (driver.accepted, driver.rejected)
+    );
+
+    let mut scalar = DormandPrince::<8>::new(options).unwrap();
+    let (mut t, mut y) = (0.0, x0);
+    scalar.advance_to(&Hires, &mut t, &mut y, t_end).unwrap();
+    assert_ne!(y, x, "the per-state atol changes the run");
+
+    let bad = [1e-4, 1e-4, 1e-4, -1.0, 1e-4, 1e-4, 1e-10, 1e-10];
+    let err = dopri.set_atol::<Hires>(Some(bad)).unwrap_err();
+    assert!(
+        matches!(err, SolverError::InvalidAtol { state, value: -1.0, .. } if state == Hires::STATE_NAMES[3]),
+        "{err}"
+    );
+    assert_eq!(dopri.atol(), Some(&atol), "unchanged after a refusal");
+    dopri.set_atol::<Hires>(None).unwrap();
+    assert_eq!(dopri.atol(), None);
+}

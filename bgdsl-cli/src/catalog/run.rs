@@ -49,6 +49,11 @@ pub struct RunPlan {
     pub times: Vec<f64>,
     /// The solver and its settings.
     pub solver: Solver,
+    /// One absolute tolerance per state, replacing the solver's scalar `atol`
+    /// ([`Simulation::set_atol`]); `None`: the scalar for every state.
+    pub atol: Option<Vec<f64>>,
+    /// The states held at or above zero, by index ([`Simulation::set_non_negative`]).
+    pub non_negative: Vec<usize>,
     /// The states and outputs to record into the table `<name>.csv` (`None`: the
     /// entry's [`Entry::record`], by default every state and output).
     pub record: Option<Vec<(String, Column)>>,
@@ -318,6 +323,17 @@ fn integrate<'a, M: Model>(
         solver: plan.solver.name(),
         source,
     })?;
+    let solver_error = |source| RunError::Solver {
+        solver: plan.solver.name(),
+        source,
+    };
+    if let Some(atol) = &plan.atol {
+        sim.set_atol(atol).map_err(solver_error)?;
+    }
+    if !plan.non_negative.is_empty() {
+        sim.set_non_negative(&plan.non_negative)
+            .map_err(solver_error)?;
+    }
     let [t0, t_end] = plan.span();
     let mut monitor = Monitor {
         recorders,

@@ -90,12 +90,20 @@ impl StudyPlan {
 }
 
 /// A run's settings that change its numbers, as text (for study hashes): parameters,
-/// initial state, sample times, solver.
+/// initial state, sample times, solver (with per-state tolerances and non-negative
+/// states, when set: without them the text is as before, so older hashes still hold).
 pub(super) fn canonical_run(plan: &RunPlan) -> String {
-    format!(
+    let mut text = format!(
         "{:?}\n{:?}\n{:?}\n{:?}\n",
         plan.params, plan.initial, plan.times, plan.solver
-    )
+    );
+    if let Some(atol) = &plan.atol {
+        text.push_str(&format!("atol {atol:?}\n"));
+    }
+    if !plan.non_negative.is_empty() {
+        text.push_str(&format!("non_negative {:?}\n", plan.non_negative));
+    }
+    text
 }
 
 /// The program's name, version and commit, for manifests: shards join only when one

@@ -15,7 +15,9 @@
 //! solver:                        # optional: default the model's (radau5)
 //!   method: radau5               #   rk4 | dopri5 | dopri5-fixed | radau5 | rodas4 | rodas5p
 //!   rtol: 1.0e-6                 #   adaptive methods: in [1e-14, 0.1]
-//!   atol: 1.0e-10                #   adaptive methods: > 0
+//!   atol: 1.0e-10                #   adaptive methods: > 0; or per state:
+//!   # atol: {default: 1.0e-9, output_slider.translation.p_x: 1.0e-12}
+//!   non_negative: []             #   adaptive methods: states held >= 0, by name
 //!   step: 1.0e-4                 #   fixed-step methods only: s, > 0
 //!   max_step: 0.01               #   adaptive methods only: s, > 0
 //!   max_steps: 100000            #   > 0
@@ -57,6 +59,15 @@
 //!   a positive definite inertia, ...: the entry's
 //!   [`checks`](crate::catalog::EntryOf::checks)).
 //! - **`initial`** replaces entries of the model's initial state, by state name.
+//! - **`solver.atol`** is one absolute tolerance for every state, or a mapping from
+//!   state names to theirs; its `default` (else `--atol`, else the method's) applies
+//!   to the states it does not name, and `--atol` replaces only that default. Each
+//!   per-state value must be a finite number > 0. **`solver.non_negative`** lists
+//!   states that must stay >= 0 (concentrations, amounts): a step that takes one below
+//!   its tolerance is rejected and retried shorter, a smaller excursion is set to 0.
+//!   Both are what [`Simulation::set_atol`](bgdsl_runtime::Simulation::set_atol) and
+//!   [`Simulation::set_non_negative`](bgdsl_runtime::Simulation::set_non_negative) do,
+//!   for the adaptive methods only; `docs/tolerances.md` says what atol means.
 //! - **`output.record`** names states and outputs; a vector output's name stands for its
 //!   components (`Tc` for `Tc_x`, `Tc_y`, `Tc_z`). It chooses the columns of
 //!   `<model>.csv` (default: the entry's [`record`](crate::catalog::EntryOf::record),
@@ -193,8 +204,10 @@ pub struct SolverSpec {
     pub method: Option<String>,
     /// Relative tolerance (adaptive methods).
     pub rtol: Option<f64>,
-    /// Absolute tolerance (adaptive methods).
-    pub atol: Option<f64>,
+    /// Absolute tolerance (adaptive methods): one number, or per state.
+    pub atol: Option<AtolSpec>,
+    /// States held at or above zero (adaptive methods), by name.
+    pub non_negative: Option<Vec<String>>,
     /// The step, s (fixed-step methods).
     pub step: Option<f64>,
     /// The largest step, s (adaptive methods).
@@ -203,6 +216,17 @@ pub struct SolverSpec {
     pub max_steps: Option<usize>,
     /// The wall-time limit, s (stiff methods).
     pub max_wall_time: Option<f64>,
+}
+
+/// `solver.atol` of a scenario: one number for every state, or a mapping of state names
+/// to numbers, with an optional `default` for the states it does not name.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum AtolSpec {
+    /// The same absolute tolerance for every state.
+    All(f64),
+    /// By state name (`default`: the others'; else the method's atol).
+    PerState(serde_yaml::Mapping),
 }
 
 /// `output:` of a scenario.

@@ -10,7 +10,7 @@ use bgdsl_runtime::Solver;
 use serde_yaml::Mapping;
 
 use super::locate::KeyPath;
-use super::solver::{pick, solver};
+use super::solver::{per_state, pick, solver};
 use super::study::study;
 use super::sweep::sweep;
 use super::{plot_names, Diagnostics, Origin, Scenario, Source};
@@ -148,6 +148,7 @@ fn resolve_into(
     let span = time_span(entry, scenario, overrides, &places, d);
     let times = span.and_then(|span| sample_times(entry, scenario, overrides, span, &places, d));
     let solver = solver(entry, scenario, overrides, &places, d);
+    let per_state = per_state(entry, scenario, solver.as_ref(), &places, d);
     let record = record(entry, scenario, &places, d);
     let plots = plots(entry, scenario, overrides, &places, d);
     let phase = super::phase::phase_pairs(entry, scenario, &overrides.phase, &places, d);
@@ -188,6 +189,8 @@ fn resolve_into(
         initial: initial.clone(),
         times,
         solver,
+        atol: per_state.atol.clone(),
+        non_negative: per_state.non_negative.clone(),
         record: record.clone(),
         plots: plots.clone(),
         phase: phase.clone(),
@@ -298,7 +301,7 @@ fn parameters(
 }
 
 /// A list of names for a message: all of them when few, else a count and where to look.
-fn name_list(kind: &str, model: &str, names: &[&str], flag: &str) -> String {
+pub(super) fn name_list(kind: &str, model: &str, names: &[&str], flag: &str) -> String {
     if names.len() <= 20 {
         format!("the {kind} of {model} are: {}", names.join(", "))
     } else {

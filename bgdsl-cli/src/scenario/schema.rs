@@ -26,6 +26,8 @@ enum Kind {
     Numbers,
     /// A mapping of anything (checked later: parameters, initial conditions).
     Mapping,
+    /// A number, or a mapping of anything (checked later: `solver.atol`).
+    NumberOrMapping,
     /// Anything (checked later: `plots`).
     Any,
     /// A mapping with these keys.
@@ -66,7 +68,8 @@ const TIME: &[Field] = &[
 const SOLVER: &[Field] = &[
     optional("method", Kind::Text),
     optional("rtol", Kind::Number),
-    optional("atol", Kind::Number),
+    optional("atol", Kind::NumberOrMapping),
+    optional("non_negative", Kind::Texts),
     optional("step", Kind::Number),
     optional("max_step", Kind::Number),
     optional("max_steps", Kind::Count),
@@ -280,6 +283,10 @@ fn value(
         Kind::Count => leaf::<usize>(value, path, places, d),
         Kind::Numbers => leaf::<Vec<f64>>(value, path, places, d),
         Kind::Mapping => leaf::<Mapping>(value, path, places, d),
+        Kind::NumberOrMapping => match value {
+            Value::Mapping(_) => true,
+            _ => leaf::<f64>(value, path, places, d),
+        },
         Kind::Any => true,
         Kind::Section(fields) => match value {
             Value::Mapping(map) => section(map, fields, path, places, d),

@@ -6,8 +6,8 @@ use std::time::Duration;
 use bgdsl_runtime::{Solver, SolverError};
 
 use super::resolve::{Overrides, Places, RTOL_RANGE};
-use super::{Diagnostics, Origin, Scenario};
-use crate::catalog::{format_number, Entry};
+use super::{AtolSpec, Diagnostics, Origin, Scenario};
+use crate::catalog::{describe_value, format_number, Entry};
 
 /// The solver: the model's, or the one named, with the tolerances and limits set.
 pub(super) fn solver(
@@ -58,7 +58,28 @@ pub(super) fn solver(
             set_tolerance(&mut solver, Some(rtol), None);
         }
     }
-    if let Some((atol, origin)) = setting(overrides.atol, spec.atol, "atol") {
+    let (file_atol, atol_key): (Option<f64>, &[&str]) = match &spec.atol {
+        Some(AtolSpec::All(a)) => (Some(*a), &["solver", "atol"]),
+        Some(AtolSpec::PerState(map)) => match map.get("default") {
+            Some(v) => match v.as_f64() {
+                Some(a) => (Some(a), &["solver", "atol", "default"]),
+                None => {
+                    d.push(
+                        places.keys(&["solver", "atol", "default"]),
+                        format!(
+                            "the default atol must be a finite number > 0, found {}",
+                            describe_value(v)
+                        ),
+                    );
+                    (None, &[])
+                }
+            },
+            None => (None, &[]),
+        },
+        None => (None, &[]),
+    };
+    let atol_setting = pick(overrides.atol, file_atol, "atol", || places.keys(atol_key));
+    if let Some((atol, origin)) = atol_setting {
         if fixed {
             d.push(
                 origin,
@@ -166,6 +187,110 @@ pub(super) fn solver(
         return None;
     }
     Some(solver)
+}
+
+/// The per-state settings of a scenario's solver (`solver.atol` as a mapping,
+/// `solver.non_negative`), checked by state name against `solver` (already resolved:
+/// the atol of the states not named is its own).
+pub(super) struct PerState {
+    /// One absolute tolerance per state, when `solver.atol` names states.
+    pub(super) atol: Option<Vec<f64>>,
+    /// The states held at or above zero, by index.
+    pub(super) non_negative: Vec<usize>,
+}
+
+/// Reads `solver.atol` (when a mapping) and `solver.non_negative` for `entry`'s states.
+pub(super) fn per_state(
+    entry: &Entry,
+    scenario: &Scenario,
+    solver: Option<&Solver>,
+    places: &Places<'_>,
+    d: &mut Diagnostics,
+) -> PerState {
+    let mut result = PerState {
+        atol: None,
+        non_negative: Vec::new(),
+    };
+    let Some(spec) = &scenario.solver else {
+        return result;
+    };
+    let states = entry.model.state_names();
+    let unknown = |name: &str| {
+        format!(
+            "unknown state `{name}`; {}",
+            super::resolve::name_list("states", &entry.name, states, "--states")
+        )
+    };
+    // The method's atol after the scenario's and the flags' settings (None: fixed step).
+    let base = solver.and_then(|s| match s {
+        Solver::DormandPrince(o) => Some(o.atol),
+        Solver::Radau5(o) => Some(o.atol),
+        Solver::Rodas4(o) | Solver::Rodas5P(o) => Some(o.atol),
+        _ => None,
+    });
+    let method = solver.map_or("the solver", |s| s.name());
+    if let Some(AtolSpec::PerState(map)) = &spec.atol {
+        let mut atol = vec![base.unwrap_or(f64::NAN); states.len()];
+        for (key, value) in map {
+            let Some(name) = key.as_str() else {
+                d.push(
+                    places.keys(&["solver", "atol"]),
+                    format!(
+                        "a state name must be a string, found {}",
+                        crate::catalog::format_value(key)
+                    ),
+                );
+                continue;
+            };
+            if name == "default" {
+                continue;
+            }
+            let origin = places.keys(&["solver", "atol", name]);
+            let Some(index) = states.iter().position(|s| *s == name) else {
+                d.push(origin, unknown(name));
+                continue;
+            };
+            match value.as_f64() {
+                Some(a) if a.is_finite() && a > 0.0 => atol[index] = a,
+                _ => d.push(
+                    origin,
+                    format!(
+                        "the atol of `{name}` must be a finite number > 0, found {}",
+                        describe_value(value)
+                    ),
+                ),
+            }
+        }
+        match base {
+            Some(_) => result.atol = Some(atol),
+            None if solver.is_some() => d.push(
+                places.keys(&["solver", "atol"]),
+                format!("atol does not apply to the fixed-step solver {method}; set `step`"),
+            ),
+            None => {}
+        }
+    }
+    if let Some(names) = &spec.non_negative {
+        let origin = || places.keys(&["solver", "non_negative"]);
+        for name in names {
+            match states.iter().position(|s| s == name) {
+                Some(index) if !result.non_negative.contains(&index) => {
+                    result.non_negative.push(index)
+                }
+                Some(_) => d.push(origin(), format!("`{name}` is listed twice")),
+                None => d.push(origin(), unknown(name)),
+            }
+        }
+        if base.is_none() && solver.is_some() && !names.is_empty() {
+            d.push(
+                origin(),
+                format!(
+                    "non_negative applies only to the adaptive solvers, not the fixed-step {method}"
+                ),
+            );
+        }
+    }
+    result
 }
 
 /// A number as a message shows it: an `f64` in the shortest form that reads back to it

@@ -270,7 +270,7 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
             });
         }
         if h < min_step(*t) {
-            return Err(SolverError::StepSizeTooSmall { t: *t, h });
+            return Err(SolverError::FixedStepTooSmall { t: *t, step: h });
         }
         check_start::<M>(*t, x)?;
         self.hybrid.begin(model, *t, x, &mut self.stats)?;
@@ -359,6 +359,8 @@ impl<const N: usize, const E: usize, const K: usize> Rk4<N, E, K> {
 pub struct DormandPrince<const N: usize, const E: usize = 0, const K: usize = DEFAULT_CALL_EVENTS> {
     kernel: ExplicitRk<Arrays<N, 7, N>>,
     options: DormandPrinceOptions,
+    /// One absolute tolerance per state ([`DormandPrince::set_atol`]), else `None`.
+    atol: Option<[f64; N]>,
     /// The step-size controller and the next step size, once a step has been taken.
     adaptive: Option<Adaptive>,
     hybrid: Hybrid<N, E, K>,
@@ -373,6 +375,7 @@ impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
         Ok(DormandPrince {
             kernel: ExplicitRk::in_arrays(&DORMAND_PRINCE_5),
             options,
+            atol: None,
             adaptive: None,
             hybrid: Hybrid::new(),
             stats: Stats::default(),
@@ -405,6 +408,63 @@ impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
     /// The event options calls use.
     pub fn event_options(&self) -> &EventOptions {
         &self.hybrid.events.options
+    }
+
+    /// Gives every state of model `M` its own absolute tolerance for later calls, in
+    /// place of the options' `atol`: the error norm weighs state `i` by
+    /// `atol[i] + rtol max(|x_i|, |x_new_i|)`, as
+    /// [`Simulation::set_atol`](crate::Simulation::set_atol) does in the driver (the
+    /// same steps, bit for bit). `None` goes back to the options' `atol`. The array
+    /// lives in the integrator: nothing is allocated. `M` names the states in errors.
+    ///
+    /// ```
+    /// # use bgdsl_runtime::{Model, Scalar};
+    /// # struct Decay;
+    /// # impl Model for Decay {
+    /// #     type Params = ();
+    /// #     const NAME: &'static str = "decay";
+    /// #     const STATE_NAMES: &'static [&'static str] = &["fast", "slow"];
+    /// #     const OUTPUT_NAMES: &'static [&'static str] = &[];
+    /// #     fn params(&self) -> &() { &() }
+    /// #     fn initial_state(&self, x0: &mut [f64]) { x0.fill(1.0) }
+    /// #     fn derivatives<T: Scalar>(&self, _t: f64, x: &[T], dx: &mut [T]) {
+    /// #         dx[0] = -T::from_f64(10.0) * x[0];
+    /// #         dx[1] = -x[1];
+    /// #     }
+    /// #     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+    /// # }
+    /// use bgdsl_runtime::rk::DormandPrince;
+    /// use bgdsl_runtime::DormandPrinceOptions;
+    ///
+    /// let mut dopri = DormandPrince::<2>::new(DormandPrinceOptions::default())?;
+    /// dopri.set_atol::<Decay>(Some([1e-12, 1e-6]))?;
+    /// let err = dopri.set_atol::<Decay>(Some([1e-12, f64::NAN])).unwrap_err();
+    /// assert_eq!(
+    ///     err.to_string(),
+    ///     "invalid absolute tolerance NaN for state `slow`: expected a finite number >= 0"
+    /// );
+    /// let (mut t, mut x) = (0.0, [1.0, 1.0]);
+    /// dopri.advance_to(&Decay, &mut t, &mut x, 1.0)?;
+    /// assert!((x[1] - (-1.0f64).exp()).abs() < 1e-5);
+    /// # Ok::<(), bgdsl_runtime::SolverError>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`SolverError::InvalidAtol`] naming the first state whose entry is negative, not
+    /// finite, or 0 with `rtol = 0`; the tolerances are then unchanged.
+    pub fn set_atol<M: Model>(&mut self, atol: Option<[f64; N]>) -> Result<(), SolverError> {
+        const { assert!(M::N_STATES == N, "N must be the model's N_STATES") };
+        if let Some(atol) = &atol {
+            crate::solver::check_atol(self.options.rtol, atol, M::STATE_NAMES)?;
+        }
+        self.atol = atol;
+        Ok(())
+    }
+
+    /// The per-state absolute tolerances of [`DormandPrince::set_atol`], if set.
+    pub fn atol(&self) -> Option<&[f64; N]> {
+        self.atol.as_ref()
     }
 
     /// The events of the last call, in time order ([the module's events](self#events)).
@@ -492,7 +552,7 @@ impl<const N: usize, const E: usize, const K: usize> DormandPrince<N, E, K> {
                 t: &mut *t,
                 x: &mut x[..],
                 stats: &mut work,
-                atol: None,
+                atol: self.atol.as_ref().map(|a| &a[..]),
                 non_negative: &[],
             };
             let (adaptive, hybrid) = (&mut self.adaptive, &mut self.hybrid);

@@ -75,7 +75,7 @@ impl Grid {
     pub fn new(t0: f64, t_end: f64, o: &FixedStep) -> Result<Self, SolverError> {
         let h = o.step;
         if t_end > t0 && h < min_step(t0).max(min_step(t_end)) {
-            return Err(SolverError::StepSizeTooSmall { t: t0, h });
+            return Err(SolverError::FixedStepTooSmall { t: t0, step: h });
         }
         Ok(Grid {
             t0,

@@ -378,20 +378,7 @@ impl<'m, M: Model> Simulation<'m, M> {
                 found: atol.len(),
             });
         }
-        for (i, &a) in atol.iter().enumerate() {
-            let expected = if !(a.is_finite() && a >= 0.0) {
-                "a finite number >= 0"
-            } else if a == 0.0 && rtol == 0.0 {
-                "a number > 0 (rtol is 0)"
-            } else {
-                continue;
-            };
-            return Err(SolverError::InvalidAtol {
-                state: M::STATE_NAMES.get(i).copied().unwrap_or("?"),
-                value: a,
-                expected,
-            });
-        }
+        super::options::check_atol(rtol, atol, M::STATE_NAMES)?;
         if let Kernel::Stiff(k) = &mut self.kernel {
             k.set_tolerances(&Tolerances {
                 rtol,
@@ -557,15 +544,12 @@ impl<'m, M: Model> Simulation<'m, M> {
         Ok(self.stats)
     }
 
-    /// A fixed-step failure that stiffness explains (non-finite values or a vanishing
-    /// step, with `step` beyond the method's stability limit on the largest eigenvalue of
-    /// the Jacobian at the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`];
-    /// any other is returned as it is.
+    /// A fixed-step failure that stiffness explains (non-finite values, with `step`
+    /// beyond the method's stability limit on the largest eigenvalue of the Jacobian at
+    /// the start `(t0, x0)`) becomes [`SolverError::ProbablyStiff`]; any other (a step
+    /// below the time axis' resolution, events, budgets) is returned as it is.
     fn diagnose_fixed(&self, cause: SolverError, step: f64, t0: f64, x0: &[f64]) -> SolverError {
-        let explicable = matches!(
-            cause,
-            SolverError::NonFiniteState { .. } | SolverError::StepSizeTooSmall { .. }
-        );
+        let explicable = matches!(cause, SolverError::NonFiniteState { .. });
         if !explicable {
             // Events, budgets: nothing stiffness explains (and no estimate to allocate).
             return cause;

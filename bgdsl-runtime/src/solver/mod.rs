@@ -40,6 +40,7 @@ pub(crate) mod weights;
 pub use control::MIN_STEP;
 #[cfg(feature = "std")]
 pub use driver::{sample_times_uniform, simulate, Simulation};
+pub(crate) use options::check_atol;
 #[cfg(feature = "std")]
 pub use options::Solver;
 pub use options::{DormandPrinceOptions, FixedStep};

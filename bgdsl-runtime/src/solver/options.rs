@@ -95,13 +95,15 @@ impl Solver {
     }
 
     /// Radau IIA of order 5 with the default options: the recommended method for stiff
-    /// models. Measured against [`Solver::Rodas5P`] and [`Solver::Rodas4`] (see
-    /// `docs/solvers.md`), it was the fastest at equal accuracy on the flagship (117
-    /// states; by up to 3.4x, tied at rtol 1e-3), on sparse chains of 500 to 10,000
-    /// states (with one case open: 10,000 states at rtol 1e-3), and on the Bari
-    /// test problems from 5–6 correct digits on, mostly because it reuses Jacobians and
-    /// LU factors across steps; the Rosenbrock methods win only on small models at
-    /// loose tolerances, and on POLLU.
+    /// models, and [`Model::default_solver`](crate::Model::default_solver)'s at every
+    /// size. Measured against [`Solver::Rodas5P`], [`Solver::Rodas4`] and
+    /// [`Solver::DormandPrince`] by CPU time at equal achieved error (`docs/solvers.md`):
+    /// - Radau5 is the fastest at the default `rtol` on the flagship (117 states;
+    ///   Rodas5P 2.2x), on the Bari problems (1.2–3.9x) and on long runs of chains of
+    ///   1,000 and 10,000 states (1.8x), mostly because it reuses Jacobians and LU
+    ///   factors across steps.
+    /// - Rodas5P is ahead by 8–28 % on short transients of large models, and on small
+    ///   models at loose tolerances (POLLU, HIRES, ROBER).
     pub fn stiff() -> Self {
         Solver::Radau5(Radau5Options::default())
     }
@@ -331,6 +333,32 @@ impl DormandPrinceOptions {
             "a number in [0, 0.2]",
         )
     }
+}
+
+/// Checks per-state absolute tolerances (one per name of `names`, in order) against
+/// relative tolerance `rtol`: each finite and `>= 0`, and `> 0` where `rtol` is 0.
+/// Shared by `Simulation::set_atol` and the allocation-free
+/// [`DormandPrince::set_atol`](crate::rk::DormandPrince::set_atol).
+pub(crate) fn check_atol(
+    rtol: f64,
+    atol: &[f64],
+    names: &'static [&'static str],
+) -> Result<(), SolverError> {
+    for (i, &a) in atol.iter().enumerate() {
+        let expected = if !(a.is_finite() && a >= 0.0) {
+            "a finite number >= 0"
+        } else if a == 0.0 && rtol == 0.0 {
+            "a number > 0 (rtol is 0)"
+        } else {
+            continue;
+        };
+        return Err(SolverError::InvalidAtol {
+            state: names.get(i).copied().unwrap_or("?"),
+            value: a,
+            expected,
+        });
+    }
+    Ok(())
 }
 
 pub(super) fn check(
