@@ -11,3 +11,8 @@
 pub mod error;
 
 pub use error::AnalysisError;
+pub mod partials;
+
+pub use partials::{
+    input_partials, parameter_jacobian, parameter_partials, state_partials, Method, Partials,
+};
