@@ -142,7 +142,7 @@ fn the_dc_motor_armature_derivatives_are_the_closed_forms() {
         .iter()
         .position(|n| *n == "rotor.p")
         .unwrap();
-    let params = motor.params;
+    let params = motor.params.clone();
     let current = x[coil] / params.inductance;
     let speed = x[rotor] / params.rotor_inertia;
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * b.abs().max(1.0);
