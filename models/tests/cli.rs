@@ -98,7 +98,7 @@ fn params_shows_defaults_units_and_docs() {
         "error: unknown model `crank`; the models are: quick_return, quick_return_rigid, \
          quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, \
          bouncing_ball, rectifier, rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, \
-         dc_motor, quarter_car, duffing, dc_servo"
+         dc_motor, quarter_car, duffing, dc_servo, butterworth"
     );
 }
 
