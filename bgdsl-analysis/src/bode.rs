@@ -125,8 +125,8 @@ impl Sweep {
         }
         for k in (0..n).rev() {
             let mut sum = z[k];
-            for j in k + 1..n {
-                sum -= m[(k, j)] * z[j];
+            for (j, zj) in z.iter().enumerate().skip(k + 1) {
+                sum -= m[(k, j)] * zj;
             }
             z[k] = sum / m[(k, k)];
         }

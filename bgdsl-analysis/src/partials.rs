@@ -118,11 +118,11 @@ pub fn state_partials<M: Model>(model: &M, t: f64, x: &[f64]) -> Result<Partials
         model.outputs(t, &xs, &mut y);
         let lanes = LANES.min(n - first);
         for k in 0..lanes {
-            for i in 0..n {
-                df[(i, first + k)] = dx[i].tangents()[k];
+            for (i, v) in dx.iter().enumerate() {
+                df[(i, first + k)] = v.tangents()[k];
             }
-            for i in 0..m {
-                dg[(i, first + k)] = y[i].tangents()[k];
+            for (i, v) in y.iter().enumerate() {
+                dg[(i, first + k)] = v.tangents()[k];
             }
         }
     }
@@ -166,11 +166,11 @@ fn seeded_partials<M: Model>(
         });
         for k in 0..chunk.len() {
             let col = c * LANES + k;
-            for i in 0..n {
-                df[(i, col)] = dx[i].tangents()[k];
+            for (i, v) in dx.iter().enumerate() {
+                df[(i, col)] = v.tangents()[k];
             }
-            for i in 0..m {
-                dg[(i, col)] = y[i].tangents()[k];
+            for (i, v) in y.iter().enumerate() {
+                dg[(i, col)] = v.tangents()[k];
             }
         }
     }
@@ -209,11 +209,11 @@ fn central_partials<M: Model + Clone>(
         set(&mut copy, &values);
         copy.derivatives(t, x, &mut f_minus);
         copy.outputs(t, x, &mut g_minus);
-        for r in 0..n {
-            df[(r, col)] = (f_plus[r] - f_minus[r]) / (2.0 * h);
+        for (r, (plus, minus)) in f_plus.iter().zip(&f_minus).enumerate() {
+            df[(r, col)] = (plus - minus) / (2.0 * h);
         }
-        for r in 0..m {
-            dg[(r, col)] = (g_plus[r] - g_minus[r]) / (2.0 * h);
+        for (r, (plus, minus)) in g_plus.iter().zip(&g_minus).enumerate() {
+            dg[(r, col)] = (plus - minus) / (2.0 * h);
         }
     }
     Partials {

@@ -175,7 +175,7 @@ bond_graph! {
 #[test]
 fn input_and_parameter_derivatives_through_parameter_expressions_are_the_closed_forms() {
     let model = Pushed::default();
-    assert!(Pushed::EXACT_PARAMETER_DERIVATIVES);
+    const { assert!(Pushed::EXACT_PARAMETER_DERIVATIVES) };
     let x = [0.1, -0.3];
     let t = 0.9;
     let u = input_partials(&model, t, &x, &[0, 1]).unwrap();
