@@ -47,7 +47,8 @@ fn list_names_every_model_on_one_line() {
             "dc_motor",
             "quarter_car",
             "duffing",
-            "dc_servo"
+            "dc_servo",
+            "butterworth"
         ]
     );
     assert!(out.stdout.lines().all(|l| l.split_whitespace().count() > 3));
@@ -97,7 +98,7 @@ fn params_shows_defaults_units_and_docs() {
         "error: unknown model `crank`; the models are: quick_return, quick_return_rigid, \
          quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, \
          bouncing_ball, rectifier, rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, \
-         dc_motor, quarter_car, duffing, dc_servo"
+         dc_motor, quarter_car, duffing, dc_servo, butterworth"
     );
 }
 

@@ -282,7 +282,7 @@ fn every_default_run_shows_its_behaviour() {
         .lines()
         .filter_map(|l| l.split_whitespace().next())
         .collect();
-    assert_eq!(names.len(), 17, "{}", list.stdout);
+    assert_eq!(names.len(), 18, "{}", list.stdout);
     for name in names {
         let out_dir = dir.join(name);
         let out = run(&[
