@@ -9,5 +9,8 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod fit;
+pub mod periodic;
+pub mod sensitivity;
 
 pub use error::AnalysisError;
