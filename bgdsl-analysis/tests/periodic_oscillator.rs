@@ -41,18 +41,21 @@ impl Model for Forced {
 #[test]
 fn orbit_is_the_steady_sine_response_and_multipliers_are_exp_lambda_t() {
     let period = core::f64::consts::TAU / W;
-    let options = PeriodicOptions::new(period);
+    let mut options = PeriodicOptions::new(period);
+    // A smooth two-state model: the period map is accurate to the solver's 1e-9.
+    options.tolerance = 1e-9;
     let orbit = periodic_orbit(&Forced, &[0.0, 0.0], &[], &options).unwrap();
 
     let h = Complex::new(1.0, 0.0) / Complex::new(K - M * W * W, C * W);
     let (amp, phase) = (F * h.norm(), h.arg());
     let exact = [amp * phase.sin(), amp * W * phase.cos()];
-    for i in 0..2 {
-        let err = (orbit.x0[i] - exact[i]).abs() / amp;
-        assert!(err < 1e-7, "x0[{i}] = {} vs {}: {err:e}", orbit.x0[i], exact[i]);
+    for (got, want) in orbit.x0.iter().zip(exact) {
+        let err = (got - want).abs() / amp;
+        assert!(err < 1e-7, "x0 = {got} vs {want}: {err:e}");
     }
-    // A linear problem: Newton converges in one step (the second run only confirms).
-    assert!(orbit.iterations <= 2, "{} iterations", orbit.iterations);
+    // A linear problem: Newton's step is exact but for the monodromy matrix's
+    // discretisation error (about 1e-5), so each iteration gains about five digits.
+    assert!(orbit.iterations <= 3, "{} iterations", orbit.iterations);
 
     let sigma = -C / (2.0 * M);
     let omega_d = (K / M - sigma * sigma).sqrt();
@@ -60,7 +63,11 @@ fn orbit_is_the_steady_sine_response_and_multipliers_are_exp_lambda_t() {
     let expected = (lambda * period).exp();
     assert_eq!(orbit.multipliers.len(), 2);
     for mu in &orbit.multipliers {
-        let closest = if mu.im >= 0.0 { expected } else { expected.conj() };
+        let closest = if mu.im >= 0.0 {
+            expected
+        } else {
+            expected.conj()
+        };
         let err = (mu - closest).norm() / closest.norm();
         assert!(err < 1e-5, "multiplier {mu} vs {closest}: {err:e}");
     }

@@ -37,9 +37,13 @@ pub(super) fn scaled_defect(phi: &DMatrix<f64>, d: &[f64]) -> DMatrix<f64> {
     })
 }
 
-/// The eigenvalues of `phi`, largest modulus first.
+/// The eigenvalues of `phi`, largest modulus first; empty when the Schur iteration does
+/// not converge in 100,000 sweeps (nalgebra's own default would iterate forever).
 pub(super) fn multipliers(phi: &DMatrix<f64>) -> Vec<Complex<f64>> {
-    let mut mu: Vec<Complex<f64>> = phi.complex_eigenvalues().iter().copied().collect();
+    let Some(schur) = nalgebra::linalg::Schur::try_new(phi.clone(), f64::EPSILON, 100_000) else {
+        return Vec::new();
+    };
+    let mut mu: Vec<Complex<f64>> = schur.complex_eigenvalues().iter().copied().collect();
     mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.im.total_cmp(&a.im)));
     mu
 }

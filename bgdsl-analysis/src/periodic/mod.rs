@@ -31,6 +31,7 @@
 //! them cannot move either (they vanish to second order). The result reports the
 //! neutral subspace's dimension and the states it is made of.
 
+mod coordinates;
 mod floquet;
 
 pub use floquet::NeutralDirections;
@@ -53,6 +54,32 @@ pub struct Shift {
     pub per_period: f64,
 }
 
+/// A state nothing depends on, and its advance over one period of the orbit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeState {
+    /// Its index.
+    pub index: usize,
+    /// Its name.
+    pub name: &'static str,
+    /// `x_i(t₀ + T) − x_i(t₀)` on the orbit.
+    pub drift: f64,
+}
+
+/// The states whose column of `Φ` is the unit vector to round-off (nothing depends on
+/// them), but for those given a shift.
+fn free_states(phi: &DMatrix<f64>, shifts: &[Shift]) -> Vec<bool> {
+    let n = phi.nrows();
+    (0..n)
+        .map(|j| {
+            !shifts.iter().any(|s| s.state == j)
+                && (0..n).all(|i| {
+                    let identity = if i == j { 1.0 } else { 0.0 };
+                    (phi[(i, j)] - identity).abs() <= 1e-12
+                })
+        })
+        .collect()
+}
+
 /// How the periodic orbit is sought.
 #[derive(Clone, Copy, Debug)]
 pub struct PeriodicOptions {
@@ -65,14 +92,18 @@ pub struct PeriodicOptions {
     /// The solver of the state (default: Radau5 at `rtol` 1e-9, `atol` 1e-11).
     pub solver: Solver,
     /// Converged when every `|x_i(t₀ + T) − x_i(t₀) − s_i|` is at most `tolerance`
-    /// times the state's scale `|x_i| + 1e-6 max_j |x_j|` (default 1e-7).
+    /// times the state's scale `|x_i| + 1e-3 max_j |x_j|` (default 1e-4: the period
+    /// map's own integration error, set by the solver's tolerances, is the floor; on the
+    /// quick return it is about 1e-5 so measured).
     pub tolerance: f64,
     /// Newton iterations at most (default 20).
     pub max_iterations: usize,
     /// Periods simulated from the guess before Newton starts (default 0).
     pub warmup_periods: usize,
     /// Singular values of the scaled `Φ − I` below this are neutral directions
-    /// (default 1e-6).
+    /// (default 1e-3: modes that change by less than 0.1 % per period, such as the
+    /// undamped gyroscopic spin of a link about its own axis, are not attracting
+    /// enough to be solved for).
     pub neutral_tolerance: f64,
 }
 
@@ -88,10 +119,10 @@ impl PeriodicOptions {
                 atol: 1e-11,
                 ..Default::default()
             }),
-            tolerance: 1e-7,
+            tolerance: 1e-4,
             max_iterations: 20,
             warmup_periods: 0,
-            neutral_tolerance: 1e-6,
+            neutral_tolerance: 1e-3,
         }
     }
 }
@@ -132,7 +163,10 @@ impl fmt::Display for PeriodicError {
                  closer (warm-up periods)"
             ),
             PeriodicError::BadPeriod(p) => {
-                write!(f, "the period must be a positive number of seconds, not {p}")
+                write!(
+                    f,
+                    "the period must be a positive number of seconds, not {p}"
+                )
             }
         }
     }
@@ -163,6 +197,11 @@ pub struct PeriodicOrbit {
     pub x0: Vec<f64>,
     /// The shifts the orbit was sought modulo.
     pub shifts: Vec<Shift>,
+    /// The free states: those nothing depends on (their column of `Φ` is exactly the
+    /// unit vector), pure integrators such as a spring-less joint's deflection. They
+    /// are not required to return: their advance over the period is whatever the orbit
+    /// makes it, reported here.
+    pub free_states: Vec<FreeState>,
     /// `Φ = ∂x(t₀ + T)/∂x(t₀)` at the orbit (`n × n`).
     pub monodromy: DMatrix<f64>,
     /// The Floquet multipliers (eigenvalues of `Φ`), largest modulus first.
@@ -171,8 +210,13 @@ pub struct PeriodicOrbit {
     pub neutral: NeutralDirections,
     /// Newton iterations done.
     pub iterations: usize,
-    /// The final scaled residual (at most 1).
+    /// The final scaled residual outside the neutral directions, relative to the
+    /// tolerance (at most 1).
     pub residual: f64,
+    /// The largest scaled residual along the neutral directions, which Newton's method
+    /// cannot remove (the motion neither returns nor departs there): the drift per
+    /// period of what is not periodic.
+    pub neutral_residual: f64,
     /// Periods integrated in all (with and without `Φ`).
     pub periods_integrated: usize,
 }
@@ -206,10 +250,9 @@ fn period_map_with_monodromy<M: Model>(
     let mut end = x0.to_vec();
     propagate(
         model,
-        options.solver,
+        (options.solver, options.steps),
         x0,
         &grid,
-        options.steps,
         &mut phi,
         &mut Homogeneous,
         |k, x, _| {
@@ -221,18 +264,30 @@ fn period_map_with_monodromy<M: Model>(
     Ok((end, phi))
 }
 
-/// The states' scales: `|x_i| + 1e-6 max_j |x_j|` (never zero unless `x` is).
+/// The states' scales: `|x_i| + 1e-3 max_j |x_j|` (never zero unless `x` is).
 fn scales(x: &[f64]) -> Vec<f64> {
     let big = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let floor = if big > 0.0 { 1e-6 * big } else { 1.0 };
+    let floor = if big > 0.0 { 1e-3 * big } else { 1.0 };
     x.iter().map(|v| v.abs() + floor).collect()
 }
 
 /// The residual `P(x₀) − x₀ − s`, and its largest scaled entry with its index.
-fn residual(end: &[f64], x0: &[f64], shifts: &[Shift], d: &[f64]) -> (Vec<f64>, f64, usize) {
+/// Free states (`free[i]`) are left out: their residual is zero.
+fn residual(
+    end: &[f64],
+    x0: &[f64],
+    shifts: &[Shift],
+    free: &[bool],
+    d: &[f64],
+) -> (Vec<f64>, f64, usize) {
     let mut r: Vec<f64> = end.iter().zip(x0).map(|(e, x)| e - x).collect();
     for s in shifts {
         r[s.state] -= s.per_period;
+    }
+    for (ri, &f) in r.iter_mut().zip(free) {
+        if f {
+            *ri = 0.0;
+        }
     }
     let (mut worst, mut at) = (0.0, 0);
     for (i, (ri, di)) in r.iter().zip(d).enumerate() {
@@ -289,43 +344,90 @@ pub fn periodic_orbit<M: Model>(
         periods += 1;
     }
     let mut last = (0.0, 0);
+    let mut mu = 0.0;
+    let mut free: Vec<bool> = Vec::new();
+    let coordinates = coordinates::Coordinates::new::<M>();
     for iteration in 0..=options.max_iterations {
         let (end, phi) = period_map_with_monodromy(model, options, &x)?;
         periods += 1;
         let d = scales(&x);
-        let (r, err, worst) = residual(&end, &x, shifts, &d);
+        if free.is_empty() {
+            free = free_states(&phi, shifts);
+        }
+        // D⁻¹ (Φ − I) E S: the residual's change per scaled unknown.
+        let dz = coordinates.scales(&d);
+        let embedding = coordinates.embedding(&x);
+        let mut defect = &phi * &embedding - &embedding;
+        for (i, di) in d.iter().enumerate() {
+            for (j, sj) in dz.iter().enumerate() {
+                defect[(i, j)] *= sj / di;
+            }
+        }
+        for (i, _) in free.iter().enumerate().filter(|(_, &f)| f) {
+            defect.row_mut(i).fill(0.0);
+        }
+        let svd = defect.svd(true, true);
+        let neutral_left = neutral_left_vectors(&svd, options.neutral_tolerance);
+        let (r, _, _) = residual(&end, &x, shifts, &free, &d);
+        let (err, worst, err_neutral) = split_residual(&r, &d, &neutral_left);
         last = (err, worst);
         if err <= options.tolerance {
             let neutral = floquet::neutral_directions(model, options, &x, &phi, &d);
+            let free_states = free
+                .iter()
+                .enumerate()
+                .filter(|(_, &f)| f)
+                .map(|(i, _)| FreeState {
+                    index: i,
+                    name: M::STATE_NAMES.get(i).copied().unwrap_or("?"),
+                    drift: end[i] - x[i],
+                })
+                .collect();
+            let multipliers = floquet::multipliers(&coordinates.reduce(&phi, &x));
             return Ok(PeriodicOrbit {
                 t0: options.t0,
                 period: options.period,
                 x0: x,
                 shifts: shifts.to_vec(),
-                multipliers: floquet::multipliers(&phi),
+                free_states,
+                multipliers,
                 monodromy: phi,
                 neutral,
                 iterations: iteration,
                 residual: err / options.tolerance,
+                neutral_residual: err_neutral,
                 periods_integrated: periods,
             });
         }
         if iteration == options.max_iterations {
             break;
         }
-        let step = newton_step(&phi, &r, &d, options.neutral_tolerance);
-        // Damped: halve the step until the residual falls (at most 6 times).
-        let mut lambda = 1.0;
+        // Levenberg–Marquardt damping of the Newton step: directions with singular
+        // values below `mu` are shortened (gradient-like); `mu` grows while a step
+        // fails to lower the residual and shrinks after one that does.
         let mut next: Vec<f64>;
         loop {
-            next = x.iter().zip(&step).map(|(xi, si)| xi + lambda * si).collect();
-            let end = period_map(model, options, &next)?;
+            let step = damped_step(&svd, &r, &d, &dz, options.neutral_tolerance, mu);
+            next = coordinates.apply(&x, &step);
             periods += 1;
-            let (_, err_next, _) = residual(&end, &next, shifts, &scales(&next));
-            if err_next < err || lambda < 1.0 / 32.0 {
+            // A step that leaves the model's domain (a rotation no longer one) is too
+            // long: shorten it.
+            let err_next = match period_map(model, options, &next) {
+                Ok(end) => {
+                    let dn = scales(&next);
+                    let (rn, _, _) = residual(&end, &next, shifts, &free, &dn);
+                    split_residual(&rn, &dn, &neutral_left).0
+                }
+                Err(_) => f64::INFINITY,
+            };
+            if err_next < err {
+                mu *= 0.1;
                 break;
             }
-            lambda *= 0.5;
+            mu = (mu * 10.0).max(1e-6);
+            if mu > 1e6 {
+                break;
+            }
         }
         x = next;
     }
@@ -336,23 +438,71 @@ pub fn periodic_orbit<M: Model>(
     })
 }
 
-/// Newton's correction for `(Φ − I) δ = −r`, in the variables scaled by `d`, leaving out
-/// the singular values below `neutral` (minimum norm).
-fn newton_step(phi: &DMatrix<f64>, r: &[f64], d: &[f64], neutral: f64) -> Vec<f64> {
-    let n = r.len();
-    let a = floquet::scaled_defect(phi, d);
-    let svd = a.svd(true, true);
-    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
-        return vec![0.0; n];
+/// The left singular vectors of the neutral directions (singular values at most
+/// `neutral`).
+fn neutral_left_vectors(
+    svd: &nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    neutral: f64,
+) -> Vec<Vec<f64>> {
+    let Some(u) = &svd.u else {
+        return Vec::new();
     };
-    let mut step = vec![0.0; n];
+    svd.singular_values
+        .iter()
+        .enumerate()
+        .filter(|(_, &sigma)| sigma <= neutral)
+        .map(|(k, _)| u.column(k).iter().copied().collect())
+        .collect()
+}
+
+/// The scaled residual split into its part outside the neutral directions (largest
+/// entry, and where) and inside them (largest entry): Newton can remove only the first.
+fn split_residual(r: &[f64], d: &[f64], neutral_left: &[Vec<f64>]) -> (f64, usize, f64) {
+    let mut outside: Vec<f64> = r.iter().zip(d).map(|(ri, di)| ri / di).collect();
+    let scaled = outside.clone();
+    for u in neutral_left {
+        let c: f64 = u.iter().zip(&scaled).map(|(a, b)| a * b).sum();
+        for (o, ui) in outside.iter_mut().zip(u) {
+            *o -= c * ui;
+        }
+    }
+    let (mut worst, mut at) = (0.0, 0);
+    for (i, v) in outside.iter().enumerate() {
+        if v.abs() > worst || v.is_nan() {
+            worst = v.abs();
+            at = i;
+        }
+    }
+    let inside = scaled
+        .iter()
+        .zip(&outside)
+        .fold(0.0f64, |m, (s, o)| m.max((s - o).abs()));
+    (worst, at, inside)
+}
+
+/// The damped Newton correction for `(Φ − I) δ = −r` from the SVD of the scaled
+/// `Φ − I`: `−Σ σ/(σ² + μ²) (uᵀr) v` over the singular values above `neutral` (the
+/// neutral directions are left alone; `μ = 0` is the minimum-norm Newton step).
+fn damped_step(
+    svd: &nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    r: &[f64],
+    d: &[f64],
+    dz: &[f64],
+    neutral: f64,
+    mu: f64,
+) -> Vec<f64> {
+    let mut step = vec![0.0; dz.len()];
+    let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
+        return step;
+    };
     for (k, &sigma) in svd.singular_values.iter().enumerate() {
         if sigma <= neutral {
             continue;
         }
-        let coefficient: f64 = (0..n).map(|i| u[(i, k)] * r[i] / d[i]).sum::<f64>() / sigma;
+        let projection: f64 = (0..r.len()).map(|i| u[(i, k)] * r[i] / d[i]).sum();
+        let coefficient = projection * sigma / (sigma * sigma + mu * mu);
         for (j, s) in step.iter_mut().enumerate() {
-            *s -= coefficient * v_t[(k, j)] * d[j];
+            *s -= coefficient * v_t[(k, j)] * dz[j];
         }
     }
     step

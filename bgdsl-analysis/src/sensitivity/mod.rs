@@ -159,10 +159,9 @@ pub fn forward_sensitivities<M: Model + FromParams>(
     let mut nodes: Vec<(Vec<f64>, DMatrix<f64>)> = Vec::with_capacity(times.len());
     let run = propagate(
         model,
-        options.solver,
+        (options.solver, options.substeps),
         &start,
         times,
-        options.substeps,
         &mut s,
         &mut ParameterForcing(&mut derivatives),
         |_k, x, s| nodes.push((x.to_vec(), s.clone())),

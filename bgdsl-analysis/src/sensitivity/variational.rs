@@ -60,10 +60,9 @@ pub(crate) struct Propagated {
 /// steps per interval; calls `at_node(k, x, S)` at every node.
 pub(crate) fn propagate<M: Model>(
     model: &M,
-    solver: Solver,
+    (solver, substeps): (Solver, usize),
     x0: &[f64],
     grid: &[f64],
-    substeps: usize,
     s: &mut DMatrix<f64>,
     forcing: &mut impl Forcing,
     mut at_node: impl FnMut(usize, &[f64], &DMatrix<f64>),
@@ -91,9 +90,12 @@ pub(crate) fn propagate<M: Model>(
     }
     let mut states = Vec::with_capacity(times.len() * n);
     let mut sim = Simulation::new(model, solver)?;
-    let stats = sim.run(grid[0], x0, &times, &mut |_t: f64, x: &[f64], _y: &[f64]| {
-        states.extend_from_slice(x)
-    })?;
+    let stats = sim.run(
+        grid[0],
+        x0,
+        &times,
+        &mut |_t: f64, x: &[f64], _y: &[f64]| states.extend_from_slice(x),
+    )?;
 
     let m = s.ncols();
     let mut evaluator = JacobianEvaluator::new(model);
