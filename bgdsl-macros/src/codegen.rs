@@ -130,6 +130,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
     let solve_power =
         crate::staged::solve_first(equations, quote!(return ::core::option::Option::None;));
     let staged_methods = crate::staged::methods(graph, equations, &derived);
+    let exact_tangents = derived.exact_tangents(graph);
     let crate::staged::ModelParts {
         field: implicit_field,
         value: implicit_value,
@@ -316,6 +317,7 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
             const PARAMETERS: &'static [::bgdsl_runtime::ParameterInfo] = #parameter_infos;
             #bodies
             #model_items
+            const EXACT_PARAMETER_DERIVATIVES: ::core::primitive::bool = #exact_tangents;
             #implicit_items
             const JACOBIAN_SPARSITY: ::core::option::Option<&'static [&'static [::core::primitive::usize]]> =
                 ::core::option::Option::Some(&[#(#sparsity),*]);
@@ -874,22 +876,33 @@ fn initial_state(graph: &Graph, equations: &Equations) -> TokenStream {
 
 /// Binds each parameter by name, converted to `scalar` (`f64` or the model's scalar
 /// type): a number, an nalgebra vector or a matrix.
+///
+/// Each is read through [`Scalar::parameter`] or [`Scalar::input`] with its index (the
+/// flat order of `parameter_values`, the order of `INPUTS`): the constant for `f64`
+/// and state duals, a seeded tangent for parameter derivatives.
 pub fn bind_params(graph: &Graph, scalar: &TokenStream) -> TokenStream {
+    let (mut param_index, mut input_index) = (0usize, 0usize);
     let binds = graph.params.iter().map(|p| {
         let name = &p.name;
         let ty = value_type(p.shape, scalar);
+        let (at, next) = if p.input {
+            (input_index, &mut input_index)
+        } else {
+            (param_index, &mut param_index)
+        };
+        *next += p.shape.len();
         let value = match p.shape {
             _ if p.input => {
-                quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(__inputs.#name))
+                quote!(<#scalar as ::bgdsl_runtime::Scalar>::input(__inputs.#name, #at))
             }
             Shape::Scalar => {
-                quote!(<#scalar as ::bgdsl_runtime::Scalar>::from_f64(self.params.#name))
+                quote!(<#scalar as ::bgdsl_runtime::Scalar>::parameter(self.params.#name, #at))
             }
             Shape::Vector(_) => {
-                quote!(::bgdsl_runtime::multibond::vector_param(&self.params.#name))
+                quote!(::bgdsl_runtime::multibond::vector_parameter(&self.params.#name, #at))
             }
             Shape::Matrix(..) => {
-                quote!(::bgdsl_runtime::multibond::matrix_param(&self.params.#name))
+                quote!(::bgdsl_runtime::multibond::matrix_parameter(&self.params.#name, #at))
             }
         };
         quote!(let #name: #ty = #value;)

@@ -21,6 +21,9 @@ struct Hoisted {
     shape: Option<Shape>,
     /// The expression in its `f64` form.
     expr: TokenStream,
+    /// The expression in the scalar type, when it has one that carries parameter
+    /// tangents (see [`crate::hoist::tangent_safe`]).
+    scalar: Option<TokenStream>,
     /// Where the user wrote it.
     span: Span,
     /// Its text, to find the same expression written twice.
@@ -48,7 +51,7 @@ impl Derived {
         let trees: Vec<TokenTree> = stream.into_iter().collect();
         let mut i = 0;
         while i < trees.len() {
-            if let Some((kind, shape, expr, span)) = marker_at(&trees[i..]) {
+            if let Some((kind, shape, expr, scalar, span)) = marker_at(&trees[i..]) {
                 let key = format!("{kind:?} {shape:?} {expr}");
                 // The marker's own content has no markers: hoisting takes whole
                 // expressions.
@@ -57,6 +60,7 @@ impl Derived {
                         kind,
                         shape,
                         expr,
+                        scalar,
                         span,
                         key,
                     });
@@ -77,7 +81,7 @@ impl Derived {
         let mut out = TokenStream::new();
         let mut i = 0;
         while i < trees.len() {
-            if let Some((kind, shape, expr, span)) = marker_at(&trees[i..]) {
+            if let Some((kind, shape, expr, _, span)) = marker_at(&trees[i..]) {
                 let key = format!("{kind:?} {shape:?} {expr}");
                 if let Some(k) = self.list.iter().position(|h| h.key == key) {
                     out.extend(std::iter::once(TokenTree::Ident(value_ident(k, span))));
@@ -107,6 +111,20 @@ impl Derived {
                 (Kind::Cached, Some(shape)) => Some((k, h, shape)),
                 _ => None,
             })
+    }
+
+    /// Whether every hoisted expression that reads a parameter or an input has a
+    /// scalar form, so that a scalar type seeding them gets every tangent exactly.
+    pub fn exact_tangents(&self, graph: &Graph) -> bool {
+        self.list.iter().all(|hoisted| {
+            let mut names = std::collections::BTreeSet::new();
+            idents(hoisted.expr.clone(), &mut names);
+            hoisted.scalar.is_some()
+                || !graph
+                    .params
+                    .iter()
+                    .any(|p| names.contains(&p.name.to_string()))
+        })
     }
 
     /// Whether the model has a cache at all.
@@ -184,10 +202,10 @@ impl Derived {
         let binds = self.list.iter().enumerate().map(|(k, hoisted)| {
             let ident = value_ident(k, hoisted.span);
             let span = hoisted.span;
-            match (hoisted.kind, hoisted.shape) {
+            let value = match (hoisted.kind, hoisted.shape) {
                 (Kind::Cached, Some(_)) => {
                     let field = format_ident!("v{}", k);
-                    quote_spanned!(span=> let #ident = #lift(__derived.#field);)
+                    quote_spanned!(span=> #lift(__derived.#field))
                 }
                 _ => {
                     let self_params = quote!(self.params);
@@ -196,12 +214,19 @@ impl Derived {
                     let expr = &hoisted.expr;
                     // Of a type the compiler may not know: lifted if it is a number,
                     // vector or matrix, passed through if not (a flag, a user's enum).
-                    quote_spanned!(span=> let #ident = {
+                    quote_spanned!(span=> {
                         #[allow(unused_imports)]
                         use ::bgdsl_runtime::lift::{ViaIdentity as _, ViaLift as _};
                         (&::bgdsl_runtime::lift::Lifting::<Scalar, _>::new({ #binds #expr })).lift_value()
-                    };)
+                    })
                 }
+            };
+            // A scalar type with parameter tangents evaluates the expression itself (a
+            // branch on a constant: gone from the code for any other type).
+            match &hoisted.scalar {
+                Some(scalar) => quote_spanned!(span=> let #ident =
+                    if <Scalar as ::bgdsl_runtime::Scalar>::PARAMETER_TANGENTS { #scalar } else { #value };),
+                None => quote_spanned!(span=> let #ident = #value;),
             }
         });
         let binds: Vec<TokenStream> = binds.collect();
@@ -268,7 +293,10 @@ fn idents(stream: TokenStream, out: &mut std::collections::BTreeSet<String>) {
 
 /// The marker at the start of `trees`, if there is one: its kind, shape, expression
 /// and span.
-fn marker_at(trees: &[TokenTree]) -> Option<(Kind, Option<Shape>, TokenStream, Span)> {
+#[allow(clippy::type_complexity)]
+fn marker_at(
+    trees: &[TokenTree],
+) -> Option<(Kind, Option<Shape>, TokenStream, Option<TokenStream>, Span)> {
     let [TokenTree::Ident(name), TokenTree::Punct(bang), TokenTree::Group(body), ..] = trees else {
         return None;
     };
@@ -294,9 +322,13 @@ fn marker_at(trees: &[TokenTree]) -> Option<(Kind, Option<Shape>, TokenStream, S
         "matrix" => (Some(Shape::Matrix(number(2)?, number(3)?)), 4),
         _ => (None, 2),
     };
-    // `;` then the expression.
-    let expr: TokenStream = inner.into_iter().skip(rest + 1).collect();
-    Some((kind, shape, expr, name.span()))
+    // `;`, the expression, `;` and its scalar form (if any).
+    let mut parts =
+        inner[rest + 1..].split(|tree| matches!(tree, TokenTree::Punct(p) if p.as_char() == ';'));
+    let expr: TokenStream = parts.next()?.iter().cloned().collect();
+    let scalar: TokenStream = parts.next().unwrap_or_default().iter().cloned().collect();
+    let scalar = (!scalar.is_empty()).then_some(scalar);
+    Some((kind, shape, expr, scalar, name.span()))
 }
 
 #[cfg(test)]
@@ -316,6 +348,74 @@ mod should {
         &rest[..rest.find(" fn ").unwrap_or(rest.len())]
     }
 
+    /// `code` without the branches a scalar type with parameter tangents takes (what
+    /// `f64` and the state's dual numbers run).
+    fn without_tangent_branches(code: &str) -> String {
+        let open = "PARAMETER_TANGENTS {";
+        let mut out = String::new();
+        let mut rest = code;
+        while let Some(start) = rest.find(open) {
+            out.push_str(&rest[..start]);
+            let body = &rest[start + open.len()..];
+            let mut depth = 1;
+            let end = body
+                .char_indices()
+                .find_map(|(i, c)| {
+                    depth += match c {
+                        '{' => 1,
+                        '}' => -1,
+                        _ => 0,
+                    };
+                    (depth == 0).then_some(i)
+                })
+                .expect("a closed branch");
+            rest = &body[end + 1..];
+        }
+        out.push_str(rest);
+        out
+    }
+
+    /// A hoisted expression that reads parameters has a branch evaluating it in the
+    /// scalar type for parameter tangents; everything else runs the lifted value.
+    #[test]
+    fn evaluate_parameter_expressions_in_the_scalar_type_for_parameter_tangents() {
+        let code = expanded(
+            "model M {
+                param m = 2.0; param a = 0.1;
+                I[3] body { f = p.component_div(&box_inertia(m, a, a, a)) };
+                1 w; Se[3] torque = vec3(1.0, 0.0, 0.0);
+                torque -> w -> body;
+            }",
+        );
+        let derivatives = function(&code, "derivatives");
+        assert!(
+            derivatives.contains("PARAMETER_TANGENTS { :: bgdsl_runtime :: multibond :: box_inertia (m , a , a , a) }")
+                || derivatives.contains("PARAMETER_TANGENTS { box_inertia (m , a , a , a) }"),
+            "{derivatives}"
+        );
+        assert!(
+            code.contains(
+                "const EXACT_PARAMETER_DERIVATIVES : :: core :: primitive :: bool = true"
+            ),
+            "{code}"
+        );
+        // A user's function of a parameter has no scalar form: the model says so.
+        let code = expanded(
+            "model M {
+                param k = 2.0;
+                C c = my_stiffness(k);
+                1 v; I mass = 1.0;
+                v -> { mass, c };
+            }",
+        );
+        assert!(
+            code.contains(
+                "const EXACT_PARAMETER_DERIVATIVES : :: core :: primitive :: bool = false"
+            ),
+            "{code}"
+        );
+    }
+
     #[test]
     fn keep_parameter_expressions_out_of_the_evaluation() {
         let code = expanded(
@@ -328,7 +428,8 @@ mod should {
                 s -> v -> { mass, c }; torque -> w -> body;
             }",
         );
-        let derivatives = function(&code, "derivatives");
+        let derivatives = without_tangent_branches(function(&code, "derivatives"));
+        let derivatives = derivatives.as_str();
         let derive = function(&code, "__derive");
         for constant in ["box_inertia", "sqrt"] {
             assert!(
@@ -365,7 +466,7 @@ mod should {
                 output scaled: Vector3 = k * body.p;
             }",
         );
-        let derivatives = function(&code, "derivatives");
+        let derivatives = without_tangent_branches(function(&code, "derivatives"));
         assert_eq!(
             derivatives.matches("MatMul :: mat_mul").count(),
             3,

@@ -185,10 +185,12 @@ pub enum Kind {
 /// The name of the marker macro code generation replaces.
 pub const MARKER: &str = "__bgdsl_hoisted";
 
-/// The marker for a hoisted expression: `__bgdsl_hoisted! { kind shape ; expr }`,
-/// with the expression in its `f64` form. Code generation replaces every marker by
-/// the lifted value (see [`crate::derived`]).
-pub fn marker(kind: Kind, shape: Option<Shape>, expr: &Expr) -> Expr {
+/// The marker for a hoisted expression: `__bgdsl_hoisted! { kind shape ; expr ;
+/// scalar }`, with the expression in its `f64` form and, when it has one that carries
+/// parameter tangents ([`tangent_safe`]), in its scalar-type form (empty otherwise).
+/// Code generation replaces every marker by the lifted value (see
+/// [`crate::derived`]), or by the scalar form for a scalar type that seeds parameters.
+pub fn marker(kind: Kind, shape: Option<Shape>, expr: &Expr, scalar_form: Option<&Expr>) -> Expr {
     let span = expr.span();
     let kind = match kind {
         Kind::Cached => quote!(cached),
@@ -209,7 +211,10 @@ pub fn marker(kind: Kind, shape: Option<Shape>, expr: &Expr) -> Expr {
     let mut f64_form = expr.clone();
     FloatOperands.visit_expr_mut(&mut f64_form);
     let name = Ident::new(MARKER, span);
-    let body = Group::new(Delimiter::Brace, quote!(#kind #shape ; #f64_form));
+    let body = Group::new(
+        Delimiter::Brace,
+        quote!(#kind #shape ; #f64_form ; #scalar_form),
+    );
     Expr::Verbatim(quote_spanned!(span=> #name ! #body))
 }
 
@@ -240,6 +245,146 @@ impl VisitMut for FloatOperands {
             int_to_float_literal(&mut binary.right);
         }
         syn::visit_mut::visit_expr_binary_mut(self, binary);
+    }
+}
+
+/// The methods of [`bgdsl_runtime::Scalar`] a number's parameter expression may call
+/// and still be evaluated in the scalar type.
+const SCALAR_TRAIT_METHODS: &[&str] = &[
+    "sqrt", "cbrt", "exp", "ln", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh",
+    "cosh", "tanh", "abs", "signum", "powi", "powf", "min", "max", "recip",
+];
+
+/// The runtime's helpers (generic over the scalar type) a parameter expression may call.
+const GENERIC_HELPERS: &[&str] = &["vec3", "box_inertia", "diag3", "skew", "rot_z", "identity3"];
+
+/// Whether a hoisted expression is also valid in the scalar type, so that a scalar type
+/// that seeds parameter tangents can evaluate it instead of lifting its `f64` value:
+/// it reads only parameters, inputs and `t`, and calls only what is generic over the
+/// scalar type (arithmetic of numbers, vectors and matrices the way nalgebra defines it
+/// for any scalar, the methods of `Scalar`, the runtime's helpers). Conservative: a
+/// user's function or constant, or an `f64` method `Scalar` lacks, is not.
+pub fn tangent_safe(
+    expr: &Expr,
+    leaf: &dyn Fn(&Ident) -> Leaf,
+    shape: &dyn Fn(&Expr) -> Option<Shape>,
+) -> bool {
+    let safe = |e: &Expr| tangent_safe(e, leaf, shape);
+    let operand = |e: &Expr| {
+        matches!(
+            e,
+            Expr::Lit(ExprLit {
+                lit: Lit::Int(_),
+                ..
+            })
+        ) || safe(e)
+    };
+    let number = |e: &Expr| shape(e) == Some(Shape::Scalar);
+    match expr {
+        Expr::Lit(ExprLit { lit, .. }) => matches!(lit, Lit::Float(_)),
+        Expr::Paren(inner) => safe(&inner.expr),
+        Expr::Group(inner) => safe(&inner.expr),
+        Expr::Path(path) => {
+            path.qself.is_none()
+                && (float_constant(&path.path)
+                    || path
+                        .path
+                        .get_ident()
+                        .is_some_and(|name| matches!(leaf(name), Leaf::Parameter | Leaf::Timed)))
+        }
+        Expr::Unary(unary) => matches!(unary.op, UnOp::Neg(_)) && safe(&unary.expr),
+        Expr::Binary(binary) => {
+            let (left, right) = (&*binary.left, &*binary.right);
+            let parts = operand(left) && operand(right);
+            match binary.op {
+                BinOp::Add(_) | BinOp::Sub(_) => parts,
+                // nalgebra multiplies a matrix by a scalar on the right only.
+                BinOp::Mul(_) => parts && (number(right) || !number(left)),
+                BinOp::Div(_) => parts && number(right),
+                _ => false,
+            }
+        }
+        Expr::MethodCall(call) => {
+            let method = call.method.to_string();
+            let args = if method == "powi" {
+                call.args.iter().all(|a| {
+                    matches!(
+                        a,
+                        Expr::Lit(ExprLit {
+                            lit: Lit::Int(_),
+                            ..
+                        })
+                    )
+                })
+            } else {
+                call.args.iter().all(safe)
+            };
+            let known = if number(&call.receiver) {
+                SCALAR_TRAIT_METHODS.contains(&method.as_str())
+            } else {
+                ["component_mul", "component_div", "transpose"].contains(&method.as_str())
+            };
+            call.turbofish.is_none() && known && safe(&call.receiver) && args
+        }
+        Expr::Call(call) => {
+            let Expr::Path(func) = &*call.func else {
+                return false;
+            };
+            // `vec3` or `::bgdsl_runtime::multibond::vec3` (as the standard library
+            // writes it).
+            let words: Vec<String> = func
+                .path
+                .segments
+                .iter()
+                .map(|s| s.ident.to_string())
+                .collect();
+            let helper = match words.as_slice() {
+                [name] => Some(name),
+                [runtime, multibond, name]
+                    if runtime == "bgdsl_runtime" && multibond == "multibond" =>
+                {
+                    Some(name)
+                }
+                _ => None,
+            };
+            func.qself.is_none()
+                && helper.is_some_and(|name| GENERIC_HELPERS.contains(&name.as_str()))
+                && call.args.iter().all(safe)
+        }
+        // A component of a vector or matrix: `l1.x`, `R0.m12`.
+        Expr::Field(field) => {
+            matches!(&field.member, syn::Member::Named(m)
+                if crate::shapes::component(&m.to_string()).is_some())
+                && safe(&field.base)
+        }
+        Expr::Reference(reference) => reference.mutability.is_none() && safe(&reference.expr),
+        _ => false,
+    }
+}
+
+/// Whether `path` is one of the standard library's `f64` constants:
+/// `core::f64::consts::PI`, `std::f64::consts::TAU`, with or without a leading `::`.
+fn float_constant(path: &syn::Path) -> bool {
+    let words: Vec<String> = path.segments.iter().map(|s| s.ident.to_string()).collect();
+    matches!(words.as_slice(), [krate, f64, consts, _]
+        if (krate == "core" || krate == "std") && f64 == "f64" && consts == "consts")
+}
+
+/// Writes the standard library's `f64` constants as values of the scalar type, for a
+/// hoisted expression's scalar form (the rewriter leaves paths it does not know alone).
+pub struct ConstantsInScalar;
+
+impl VisitMut for ConstantsInScalar {
+    fn visit_expr_mut(&mut self, expr: &mut Expr) {
+        match expr {
+            Expr::Path(path) if path.qself.is_none() && float_constant(&path.path) => {
+                let span = path.span();
+                *expr = Expr::Verbatim(
+                    quote_spanned!(span=> <Scalar as ::bgdsl_runtime::Scalar>::from_f64(#path)),
+                );
+            }
+            _ => syn::visit_mut::visit_expr_mut(self, expr),
+        }
     }
 }
 
@@ -308,7 +453,7 @@ mod should {
     #[test]
     fn write_integer_operands_as_floats_in_the_f64_form() {
         let expr: Expr = syn::parse_str("2 * k + k.powi(3)").unwrap();
-        let tokens = marker(Kind::Cached, Some(Shape::Scalar), &expr).to_token_stream();
+        let tokens = marker(Kind::Cached, Some(Shape::Scalar), &expr, None).to_token_stream();
         let text = tokens.to_string();
         assert!(text.contains("2.0 * k"), "{text}");
         assert!(text.contains("powi (3)"), "{text}");

@@ -54,6 +54,7 @@ pub fn rewrite(expr: &Expr, scope: &Scope, errors: &mut crate::errors::Errors) -
         deps: Vec::new(),
         locals,
         numeric: true,
+        hoisting: true,
     };
     rewriter.visit_expr_mut(&mut expr);
     Rewritten {
@@ -505,6 +506,9 @@ struct Rewriter<'s, 'e> {
     /// Whether the expression being visited stands where a number goes (an operand,
     /// an argument, a branch's value), so a parameter expression there may be hoisted.
     numeric: bool,
+    /// Whether parameter expressions are hoisted (not while writing a hoisted
+    /// expression's own scalar form).
+    hoisting: bool,
 }
 
 impl Rewriter<'_, '_> {
@@ -668,7 +672,7 @@ impl Rewriter<'_, '_> {
     /// hoisting where a number goes (see [`crate::hoist`]).
     fn hoisted(&mut self, expr: &mut Expr) -> bool {
         use crate::hoist::{class, hoistable, marker, Class, Kind};
-        if !self.numeric || !hoistable(expr) {
+        if !self.hoisting || !self.numeric || !hoistable(expr) {
             return false;
         }
         let env = Env {
@@ -692,7 +696,23 @@ impl Rewriter<'_, '_> {
         };
         let shape = crate::shapes::shape(expr, &env);
         let kind = if shape.is_some() { kind } else { Kind::PerCall };
-        *expr = marker(kind, shape, expr);
+        let safe = shape.is_some()
+            && crate::hoist::tangent_safe(expr, &|name| env.leaf(name), &|e| {
+                crate::shapes::shape(e, &env)
+            });
+        // The same expression in the scalar type, for parameter tangents.
+        let scalar_form = safe.then(|| {
+            let mut scalar = expr.clone();
+            syn::visit_mut::VisitMut::visit_expr_mut(
+                &mut crate::hoist::ConstantsInScalar,
+                &mut scalar,
+            );
+            self.hoisting = false;
+            self.visit_expr_mut(&mut scalar);
+            self.hoisting = true;
+            scalar
+        });
+        *expr = marker(kind, shape, expr, scalar_form.as_ref());
         true
     }
 

@@ -42,6 +42,8 @@ mod math;
 pub mod model;
 pub mod multibond;
 #[cfg(feature = "std")]
+pub mod param_dual;
+#[cfg(feature = "std")]
 pub mod record;
 pub mod rk;
 pub mod scalar;
@@ -71,6 +73,8 @@ pub use model::{
     unit_of, BodyInfo, FromParams, InputInfo, Model, ModelError, ParameterInfo, PowerBalance,
     SignalInfo, WithInputs,
 };
+#[cfg(feature = "std")]
+pub use param_dual::ParamDual;
 #[cfg(feature = "std")]
 pub use record::{EventLog, Recorder, Trajectory};
 pub use scalar::Scalar;

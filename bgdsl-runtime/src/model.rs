@@ -45,6 +45,15 @@ pub trait Model {
     /// [`ParameterInfo::len`].
     const N_PARAMETER_VALUES: usize = 0;
 
+    /// Whether [`Model::derivatives`] and [`Model::outputs`] read every parameter and
+    /// input through [`Scalar::parameter`] and [`Scalar::input`] and keep their tangents
+    /// everywhere (in the parameter expressions the model computes once, too), so that
+    /// a scalar type with [`Scalar::PARAMETER_TANGENTS`] gives exact derivatives with
+    /// respect to them. `bond_graph!` says `true` unless a parameter expression calls
+    /// something not generic over the scalar type (a user's `f64` function); the
+    /// default `false` makes analyses fall back to finite differences and say so.
+    const EXACT_PARAMETER_DERIVATIVES: bool = false;
+
     /// The parameters the model evaluates with.
     fn params(&self) -> &Self::Params;
 

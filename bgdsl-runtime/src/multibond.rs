@@ -73,6 +73,28 @@ pub fn vector_param<S: Scalar, const N: usize>(value: &[f64; N]) -> SVector<S, N
     SVector::from_fn(|i, _| S::from_f64(value[i]))
 }
 
+/// A parameter vector whose first component is parameter number `first` (see
+/// [`Scalar::parameter`]), in the scalar type: [`vector_param`] for `f64` and dual
+/// numbers in the state, seeded component by component for parameter derivatives.
+#[inline]
+pub fn vector_parameter<S: Scalar, const N: usize>(
+    value: &[f64; N],
+    first: usize,
+) -> SVector<S, N> {
+    SVector::from_fn(|i, _| S::parameter(value[i], first + i))
+}
+
+/// A parameter matrix (`[[f64; C]; R]`, rows first) whose entry (0, 0) is parameter
+/// number `first` (see [`Scalar::parameter`]; the entries follow row by row), in the
+/// scalar type.
+#[inline]
+pub fn matrix_parameter<S: Scalar, const R: usize, const C: usize>(
+    value: &[[f64; C]; R],
+    first: usize,
+) -> SMatrix<S, R, C> {
+    SMatrix::from_fn(|i, j| S::parameter(value[i][j], first + i * C + j))
+}
+
 /// A parameter matrix (`[[f64; C]; R]`, rows first) in the scalar type.
 pub fn matrix_param<S: Scalar, const R: usize, const C: usize>(
     value: &[[f64; C]; R],

@@ -33,8 +33,37 @@ pub trait Scalar:
     + num_traits::Zero
     + num_traits::One
 {
+    /// Whether this type carries derivatives with respect to parameters or inputs
+    /// (seeded through [`Scalar::parameter`] and [`Scalar::input`]). When it does,
+    /// generated code evaluates its parameter expressions in `Self` at every
+    /// evaluation instead of lifting the `f64` values it computed once, so that no
+    /// derivative is lost in the cache. `false` (the default) for `f64` and the dual
+    /// numbers of Jacobians in the state, whose code is unchanged by the hook.
+    const PARAMETER_TANGENTS: bool = false;
+
     /// A constant: no dependence on the state.
     fn from_f64(value: f64) -> Self;
+
+    /// Parameter number `index` (in the order of
+    /// [`Model::parameter_values`](crate::Model::parameter_values): declaration order,
+    /// vectors component by component, matrices row by row), whose value is `value`.
+    /// Generated code reads every parameter through this; the default is the constant
+    /// [`Scalar::from_f64`], so `f64` and [`Dual`](crate::Dual) compile to what they did
+    /// without the hook.
+    #[inline(always)]
+    fn parameter(value: f64, index: usize) -> Self {
+        let _ = index;
+        Self::from_f64(value)
+    }
+
+    /// Input number `index` (in the order of
+    /// [`WithInputs::INPUTS`](crate::WithInputs::INPUTS)), whose value is `value`; the
+    /// default is the constant [`Scalar::from_f64`], as for [`Scalar::parameter`].
+    #[inline(always)]
+    fn input(value: f64, index: usize) -> Self {
+        let _ = index;
+        Self::from_f64(value)
+    }
     /// The value, without any derivative part.
     fn to_f64(self) -> f64;
     /// Square root.

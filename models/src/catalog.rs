@@ -23,6 +23,7 @@
 //! | `quarter_car` | [`QuarterCar`] |
 //! | `duffing` | [`Duffing`] |
 //! | `dc_servo` | [`DcServo`] |
+//! | `butterworth` | [`Butterworth`]: the third-order Butterworth ladder filter |
 
 pub mod compare;
 mod extras;
@@ -44,7 +45,7 @@ use crate::hybrid::{
 use crate::quick_return::QuickReturn;
 use crate::quick_return_hybrid::{QuickReturnEndStop, QuickReturnFriction};
 use crate::quick_return_rigid::{QuickReturnRigid, QuickReturnRigidCoupled};
-use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+use crate::{Butterworth, DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 /// The flagship's solver: Radau IIA at rtol 1e-6; atol 1e-10 resolves the joint
 /// deflections (~1e-4 m).
@@ -414,6 +415,18 @@ pub fn catalogue() -> Catalogue {
                 .interval(1e-3)
                 .solver(Solver::stiff())
                 .checks(DcServo::check_params),
+        )
+        .entry(
+            Entry::of::<Butterworth>()
+                .name("butterworth")
+                .description(
+                    "the third-order Butterworth ladder filter (Rs = RL = 1 Ω, L = 1 H, \
+                     C = 2 F), its step response; `models bode` gives its frequency response",
+                )
+                .t_end(20.0)
+                .interval(1e-2)
+                .solver(Solver::stiff())
+                .checks(Butterworth::check_params),
         )
 }
 

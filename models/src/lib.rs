@@ -7,6 +7,8 @@
 //! - [`DcMotor`]: a DC motor driving a geared, compliant, inertial load.
 //! - [`QuarterCar`]: the quarter-car suspension model over a road profile.
 //! - [`Duffing`]: the forced Duffing oscillator (a cubic spring).
+//! - [`Butterworth`]: the third-order Butterworth ladder filter (a frequency-response
+//!   reference).
 //! - [`hybrid`]: models with events and modes (bouncing ball, rectifier, end stop,
 //!   clutch).
 //!
@@ -16,6 +18,7 @@
 //! of the models, for the tests and benchmarks that compare them with the generated
 //! code.
 
+pub mod butterworth;
 pub mod catalog;
 pub mod control;
 pub mod dc_motor;
@@ -32,6 +35,7 @@ pub mod reference;
 pub mod rlc;
 
 pub use bgdsl_cli::{cli, interrupt, plot, provenance, report, scenario};
+pub use butterworth::{Butterworth, ButterworthOutputs, ButterworthParams, ButterworthState};
 pub use catalog::catalogue;
 pub use dc_motor::{DcMotor, DcMotorOutputs, DcMotorParams, DcMotorState};
 pub use duffing::{Duffing, DuffingOutputs, DuffingParams, DuffingState};

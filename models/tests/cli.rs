@@ -47,7 +47,8 @@ fn list_names_every_model_on_one_line() {
             "dc_motor",
             "quarter_car",
             "duffing",
-            "dc_servo"
+            "dc_servo",
+            "butterworth"
         ]
     );
     assert!(out.stdout.lines().all(|l| l.split_whitespace().count() > 3));

@@ -13,7 +13,7 @@ use crate::quick_return_hybrid::{QuickReturnEndStop, QuickReturnFriction};
 use crate::quick_return_rigid::{
     try_quick_return_cycle, DrivenMechanism, Mechanism, QuickReturnRigid, QuickReturnRigidCoupled,
 };
-use crate::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+use crate::{Butterworth, DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 /// A model of the catalogue, with physical checks of the parameters (beyond "every
 /// number is finite", which the catalogue checks for all): [`Entry::of`]'s `checks`,
@@ -211,6 +211,16 @@ impl Catalogued for Oscillator {
         checks.positive("m", p.m);
         checks.non_negative("k", p.k);
         checks.non_negative("c", p.c);
+    }
+}
+
+impl Catalogued for Butterworth {
+    fn check_params(p: &Self::Params, checks: &mut Checks) {
+        checks.non_negative("source_resistance", p.source_resistance);
+        checks.positive("l1", p.l1);
+        checks.positive("c2", p.c2);
+        checks.positive("l3", p.l3);
+        checks.non_negative("load_resistance", p.load_resistance);
     }
 }
 
