@@ -45,6 +45,12 @@ fn orbit() -> (QuickReturn, PeriodicOptions, PeriodicOrbit) {
     model.initial_state(&mut x0);
     let mut options = PeriodicOptions::new(period);
     options.warmup_periods = 2;
+    if let Ok(v) = std::env::var("NEUTRAL") {
+        options.neutral_tolerance = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("TOL") {
+        options.tolerance = v.parse().unwrap();
+    }
     options.steps = std::env::var("STEPS").map_or(400, |s| s.parse().unwrap());
     let orbit = periodic_orbit(&model, &x0, &[], &options).unwrap();
     (model, options, orbit)

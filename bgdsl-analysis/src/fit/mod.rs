@@ -246,7 +246,11 @@ impl Layout {
 }
 
 /// The model with parameter values `values` at the fitted indices.
-fn with_values<M: Model + FromParams>(model: &M, parameters: &[FitParameter], p: &[f64]) -> M {
+fn with_values<M: Model + FromParams + Clone>(
+    model: &M,
+    parameters: &[FitParameter],
+    p: &[f64],
+) -> M {
     let mut all = vec![0.0; M::N_PARAMETER_VALUES];
     model.parameter_values(&mut all);
     for (fp, v) in parameters.iter().zip(p) {
@@ -299,7 +303,7 @@ fn start<M: Model>(model: &M, x0: Option<&[f64]>) -> Vec<f64> {
 }
 
 /// Residuals and their Jacobian in the fitted parameters.
-fn residuals_and_jacobian<M: Model + FromParams>(
+fn residuals_and_jacobian<M: Model + FromParams + Clone>(
     model: &M,
     x0: Option<&[f64]>,
     data: &Measurements,
@@ -337,7 +341,7 @@ fn cost(r: &[f64]) -> f64 {
 ///
 /// # Errors
 /// See [`FitError`].
-pub fn fit<M: Model + FromParams>(
+pub fn fit<M: Model + FromParams + Clone>(
     model: &M,
     x0: Option<&[f64]>,
     data: &Measurements,

@@ -2,8 +2,8 @@
 //! variational equations `dS/dt = ∂f/∂x S + ∂f/∂p`, `S(t₀) = ∂x₀/∂p`, and the outputs'
 //! `dy/dp = ∂g/∂x S + ∂g/∂p`.
 //!
-//! `∂f/∂x` and `∂g/∂x S` are exact (dual numbers); `∂f/∂p`, `∂g/∂p` and `∂x₀/∂p` come
-//! from [`ParameterDerivatives`] (see there how, and
+//! `∂f/∂x` and `∂g/∂x S` are exact (dual numbers); `∂f/∂p`, `∂g/∂p` (exact for a
+//! generated model) and `∂x₀/∂p` come from [`ParameterDerivatives`] (see there how, and
 //! [`Sensitivities::exact_parameter_derivatives`]). The state is integrated by the
 //! runtime's solver, the sensitivities staggered on the same trajectory by an
 //! L-stable SDIRK method of order 3 ([`variational`]): the accuracy of `S` is set by
@@ -49,8 +49,8 @@ pub struct Sensitivities {
     pub times: Vec<f64>,
     /// The parameters, by name (`m1`, `K3C[1]`).
     pub parameters: Vec<String>,
-    /// Whether `∂f/∂p`, `∂g/∂p` and `∂x₀/∂p` were exact (dual numbers) or central
-    /// differences ([`ParameterDerivatives`]).
+    /// Whether `∂f/∂p` and `∂g/∂p` were exact (dual numbers) or central differences
+    /// (`∂x₀/∂p` always is: [`ParameterDerivatives`]).
     pub exact_parameter_derivatives: bool,
     /// The state at each time.
     pub states: Vec<Vec<f64>>,
@@ -77,7 +77,7 @@ impl Sensitivities {
 /// The forcing `∂f/∂p` of the variational equations.
 struct ParameterForcing<'a, M>(&'a mut ParameterDerivatives<M>);
 
-impl<M: Model + FromParams> Forcing for ParameterForcing<'_, M> {
+impl<M: Model + FromParams + Clone> Forcing for ParameterForcing<'_, M> {
     fn forcing(&mut self, t: f64, x: &[f64], out: &mut DMatrix<f64>) {
         self.0.df_dp(t, x, out);
     }
@@ -116,7 +116,7 @@ fn output_sensitivity<M: Model>(
 /// # Errors
 /// [`AnalysisError::Dimension`] for a wrong `x0` length, a parameter index out of
 /// range or fewer than two times; [`AnalysisError::Solver`] when the run fails.
-pub fn forward_sensitivities<M: Model + FromParams>(
+pub fn forward_sensitivities<M: Model + FromParams + Clone>(
     model: &M,
     x0: Option<&[f64]>,
     which: &[usize],

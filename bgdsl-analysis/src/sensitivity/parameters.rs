@@ -1,16 +1,20 @@
 //! The derivatives of a model's right-hand side, outputs and initial state with respect
 //! to chosen parameter values: `∂f/∂p`, `∂g/∂p`, `∂x₀/∂p`.
 //!
-//! Here by central differences on copies of the model whose parameter values are moved
-//! by `±h` (`h = 1e-6 · max(|p|, 1e-3)`: truncation error of order `h²`, rounding of
-//! order `ε/h`, both below 1e-9 relative for the models of the catalogue).
-//! [`ParameterDerivatives::exact`] says which way they were computed, and every result
-//! that uses them carries it.
+//! `∂f/∂p` and `∂g/∂p` are exact (dual numbers, [`crate::partials::parameter_partials`])
+//! for a model that keeps parameter tangents (`Model::EXACT_PARAMETER_DERIVATIVES`: every
+//! generated model whose parameter expressions are generic); otherwise, and always for
+//! `∂x₀/∂p` (the initial state is computed in `f64` only), by central differences on
+//! copies of the model whose parameter values are moved by `±h` (`h = 1e-6 · max(|p|,
+//! 1e-3)`: truncation error of order `h²`, rounding of order `ε/h`, both below 1e-9
+//! relative for the models of the catalogue). [`ParameterDerivatives::exact`] says
+//! which way `∂f/∂p` was computed, and every result that uses it carries it.
 
 use bgdsl_runtime::{FromParams, Model};
 use nalgebra::DMatrix;
 
 use crate::error::AnalysisError;
+use crate::partials::parameter_partials;
 
 /// The index among a model's parameter values ([`Model::parameter_values`]) of the
 /// parameter named `name` (a scalar), or of `name[k]` (component `k` of a vector or
@@ -52,6 +56,9 @@ pub fn parameter_name<M: Model>(index: usize) -> Option<String> {
 
 /// `∂f/∂p`, `∂g/∂p` and `∂x₀/∂p` for the parameter values `which` of a model.
 pub struct ParameterDerivatives<M> {
+    /// The model itself and the indices, for exact derivatives (`None`: central
+    /// differences).
+    exact: Option<(M, Vec<usize>)>,
     /// The model moved up and down in each parameter, in the order of `which`.
     plus: Vec<M>,
     minus: Vec<M>,
@@ -61,7 +68,7 @@ pub struct ParameterDerivatives<M> {
     f_minus: Vec<f64>,
 }
 
-impl<M: Model + FromParams> ParameterDerivatives<M> {
+impl<M: Model + FromParams + Clone> ParameterDerivatives<M> {
     /// The derivatives of `model` in its parameter values `which` (indices into
     /// [`Model::parameter_values`]).
     ///
@@ -90,6 +97,7 @@ impl<M: Model + FromParams> ParameterDerivatives<M> {
             width.push(2.0 * h);
         }
         Ok(ParameterDerivatives {
+            exact: M::EXACT_PARAMETER_DERIVATIVES.then(|| (model.clone(), which.to_vec())),
             plus,
             minus,
             width,
@@ -98,10 +106,24 @@ impl<M: Model + FromParams> ParameterDerivatives<M> {
         })
     }
 
-    /// Whether the derivatives are exact (dual numbers) rather than central
-    /// differences: `false` here.
+    /// Whether `∂f/∂p` and `∂g/∂p` are exact (dual numbers) rather than central
+    /// differences.
     pub fn exact(&self) -> bool {
-        false
+        self.exact.is_some()
+    }
+
+    /// The exact `∂f/∂p` (`rhs`) or `∂g/∂p` into `out`; NaN where the evaluation
+    /// failed (the integration then reports a non-finite value). `false` when the model
+    /// keeps no parameter tangents.
+    fn exact_into(&self, t: f64, x: &[f64], out: &mut DMatrix<f64>, rhs: bool) -> bool {
+        let Some((model, which)) = &self.exact else {
+            return false;
+        };
+        match parameter_partials(model, t, x, which) {
+            Ok(p) => out.copy_from(if rhs { &p.df } else { &p.dg }),
+            Err(_) => out.fill(f64::NAN),
+        }
+        true
     }
 
     /// The number of parameters.
@@ -116,6 +138,9 @@ impl<M: Model + FromParams> ParameterDerivatives<M> {
 
     /// `∂f/∂p` at `(t, x)` into `out` (`N_STATES × len`).
     pub fn df_dp(&mut self, t: f64, x: &[f64], out: &mut DMatrix<f64>) {
+        if self.exact_into(t, x, out, true) {
+            return;
+        }
         let n = M::N_STATES;
         for j in 0..self.len() {
             self.plus[j].derivatives::<f64>(t, x, &mut self.f_plus[..n]);
@@ -128,6 +153,9 @@ impl<M: Model + FromParams> ParameterDerivatives<M> {
 
     /// `∂g/∂p` at `(t, x)` into `out` (`N_OUTPUTS × len`).
     pub fn dg_dp(&mut self, t: f64, x: &[f64], out: &mut DMatrix<f64>) {
+        if self.exact_into(t, x, out, false) {
+            return;
+        }
         let n = M::N_OUTPUTS;
         for j in 0..self.len() {
             self.plus[j].outputs::<f64>(t, x, &mut self.f_plus[..n]);
