@@ -63,11 +63,13 @@ fn orbit() -> (QuickReturn, PeriodicOptions, PeriodicOrbit) {
 /// printed value; the long run has itself settled to about 1e-5 of it, the slowest
 /// decaying multiplier being printed too).
 ///
-/// Ignored: it fails today. Shooting converges (2 Newton iterations after the warm-up,
-/// scaled residual 7e-5), but the orbit found is not the long run's: at the same drive
-/// angle the crank is 1.8e-4 rad ahead and the drive coupling's twist 1.8e-4 rad less,
-/// and `rod.R_11` differs by 3.7e-2 of its range, while the long run has settled (turn 19
-/// against turn 20: 1e-11). See `docs/periodic-and-fitting.md`, "Open".
+/// Ignored: it fails today. Shooting converges (3 Newton iterations after the warm-up,
+/// scaled residual 7e-5 against a tolerance of 1e-4), but the orbit found is not the
+/// long run's: at the same drive angle the crank is 1.8e-4 rad ahead and the drive
+/// coupling's twist 1.8e-4 rad less, and `rod.R_11` differs by 2.6e-2 of its range,
+/// while the long run has settled (turn 19 against turn 20: 1e-11). With a tolerance of
+/// 1e-5 Newton stalls at 4e-5 (the period map's integration noise, in `rocker.R_32`).
+/// See `docs/periodic-and-fitting.md`, "Open".
 #[test]
 #[ignore = "fails: the orbit found differs from the long run's settled turn (see the doc comment)"]
 fn quick_return_cycle_equals_the_last_turn_of_a_long_run() {

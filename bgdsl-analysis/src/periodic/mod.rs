@@ -100,10 +100,11 @@ pub struct PeriodicOptions {
     pub max_iterations: usize,
     /// Periods simulated from the guess before Newton starts (default 0).
     pub warmup_periods: usize,
-    /// Singular values of the scaled `Φ − I` below this are neutral directions
-    /// (default 1e-3: modes that change by less than 0.1 % per period, such as the
-    /// undamped gyroscopic spin of a link about its own axis, are not attracting
-    /// enough to be solved for).
+    /// Singular values of the scaled `Φ − I` (in the unknowns) below this are neutral
+    /// directions, left out of the Newton step and of the convergence test (default
+    /// 1e-6: the exactly neutral ones, which come out at 1e-8 or less on the quick
+    /// return; a larger value also drops slowly attracting directions, and the orbit
+    /// found may then be off the attracting one along them).
     pub neutral_tolerance: f64,
 }
 
@@ -122,7 +123,7 @@ impl PeriodicOptions {
             tolerance: 1e-4,
             max_iterations: 20,
             warmup_periods: 0,
-            neutral_tolerance: 1e-3,
+            neutral_tolerance: 1e-6,
         }
     }
 }
