@@ -8,6 +8,9 @@
 //! - [`modes`]: eigenvalues with natural frequency, damping ratio, dominant states.
 //! - [`bode`]: frequency responses `H(jω) = C (jωI − A)⁻¹ B + D`.
 //! - [`export`]: `linear.json`, a CSV per matrix, a MATLAB/Octave script.
+//! - [`periodic`]: periodic steady states by shooting, Floquet multipliers.
+//! - [`sensitivity`]: forward parameter sensitivities along a trajectory.
+//! - [`fit`]: least-squares parameter estimation (Levenberg–Marquardt) with intervals.
 //!
 //! Every derivative is exact: a generated model's equations are generic over the
 //! number type, so they come from dual numbers, not from finite differences. A model
@@ -20,9 +23,12 @@
 pub mod bode;
 pub mod error;
 pub mod export;
+pub mod fit;
 pub mod linear;
 pub mod modes;
 pub mod partials;
+pub mod periodic;
+pub mod sensitivity;
 pub mod steady;
 
 pub use bode::{frequency_response, log_grid, FrequencyResponse};
