@@ -100,6 +100,10 @@ pub fn split(
     let scalar = quote!(Scalar);
     let rt = quote!(::bgdsl_runtime);
     let bindings = prelude_bindings(graph, equations, derived);
+    let mut defined_by: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    for (i, binding) in bindings.iter().enumerate() {
+        defined_by.entry(&binding.defines).or_default().push(i);
+    }
     let mut steps: Vec<Step> = equations
         .ordered
         .iter()
@@ -119,7 +123,17 @@ pub fn split(
         .enumerate()
         .map(|(i, s)| (s.name.clone(), i))
         .collect();
-    // Each write goes with the last equation it reads (the first when it reads none).
+    // The first equation that reads each name (a state, a parameter): where a write
+    // that reads no equation goes, so that such writes (a storage element's energy)
+    // spread over the chunks instead of all landing in the first.
+    let mut first_reader: BTreeMap<String, usize> = BTreeMap::new();
+    for (i, step) in steps.iter().enumerate() {
+        for read in &step.item.reads {
+            first_reader.entry(read.clone()).or_insert(i);
+        }
+    }
+    // Each write goes with the last equation it reads, else with the first equation
+    // that reads what it reads (the first equation when none does).
     let mut place = |sink: Sink, tokens: TokenStream| {
         let item = item(derived.replace(tokens));
         let at = item
@@ -127,6 +141,7 @@ pub fn split(
             .iter()
             .filter_map(|r| defined_at.get(r))
             .max()
+            .or_else(|| item.reads.iter().filter_map(|r| first_reader.get(r)).max())
             .copied()
             .unwrap_or(0);
         steps[at].sinks.push((sink, item));
@@ -237,7 +252,7 @@ pub fn split(
         });
         let out_names: Vec<Ident> = returned[c].iter().map(|n| ident(n)).collect();
         let out_types = returned[c].iter().map(|n| type_of[n]);
-        let prelude = needed_bindings(&bindings, &reads[c]);
+        let prelude = needed_bindings(&bindings, &defined_by, &reads[c]);
         let statements = steps.iter().map(|s| &s.item.tokens);
         let sink = |which: Sink, guard: TokenStream| {
             let writes: Vec<&TokenStream> = steps
@@ -345,21 +360,32 @@ fn prelude_bindings(graph: &Graph, equations: &Equations, derived: &Derived) -> 
 }
 
 /// The bindings that `reads` need, with what they read in turn, in prelude order.
-fn needed_bindings(bindings: &[Binding], reads: &BTreeSet<String>) -> TokenStream {
-    let mut needed = reads.clone();
-    let mut keep = vec![false; bindings.len()];
-    for (i, binding) in bindings.iter().enumerate().rev() {
-        if needed.contains(&binding.defines) {
-            keep[i] = true;
-            needed.extend(binding.reads.iter().cloned());
-        }
-    }
-    bindings
+/// `defined_by` maps a name to the bindings that define it, in prelude order, so each
+/// chunk costs what it reads, not the whole prelude.
+fn needed_bindings(
+    bindings: &[Binding],
+    defined_by: &BTreeMap<&str, Vec<usize>>,
+    reads: &BTreeSet<String>,
+) -> TokenStream {
+    let mut keep = BTreeSet::new();
+    let mut pending: Vec<(&str, usize)> = reads
         .iter()
-        .zip(keep)
-        .filter(|(_, keep)| *keep)
-        .map(|(b, _)| b.tokens.clone())
-        .collect()
+        .map(|r| (r.as_str(), bindings.len()))
+        .collect();
+    while let Some((name, before)) = pending.pop() {
+        // The binding in scope just before `before` (a later `let` shadows).
+        let Some(&at) = defined_by
+            .get(name)
+            .and_then(|all| all.iter().rev().find(|&&i| i < before))
+        else {
+            continue;
+        };
+        if !keep.insert(at) {
+            continue;
+        }
+        pending.extend(bindings[at].reads.iter().map(|r| (r.as_str(), at)));
+    }
+    keep.into_iter().map(|i| bindings[i].tokens.clone()).collect()
 }
 
 /// Top-level statements of `stream`, split at `;`.
