@@ -171,6 +171,11 @@ pub fn split(
     for (bucket, term) in power {
         place(Sink::Power, quote!(__p[#bucket] += #term;));
     }
+    let n_states: usize = equations.states.iter().map(|s| s.shape.len()).sum();
+    let n_outputs: usize = crate::codegen::output_shapes(graph, equations)
+        .iter()
+        .map(|s| s.len())
+        .sum();
     let has_cache = derived.has_cache();
     let cache_type = Derived::cache_type(&graph.name);
     let derived_param = has_cache.then(|| quote!(__derived: &#cache_type,));
@@ -263,9 +268,9 @@ pub fn split(
                 .collect();
             (!writes.is_empty()).then(|| quote!(if #guard { #(#writes)* }))
         };
-        let dx_writes = sink(Sink::Derivatives, quote!(!__dx.is_empty()));
-        let y_writes = sink(Sink::Outputs, quote!(!__y.is_empty()));
-        let p_writes = sink(Sink::Power, quote!(!__p.is_empty()));
+        let dx_writes = sink(Sink::Derivatives, quote!(let ::core::option::Option::Some(__dx) = __dx));
+        let y_writes = sink(Sink::Outputs, quote!(let ::core::option::Option::Some(__y) = __y));
+        let p_writes = sink(Sink::Power, quote!(let ::core::option::Option::Some(__p) = __p));
         let doc = format!(
             "Part {} of the model's evaluation (see `derivatives`).",
             c + 1
@@ -278,12 +283,12 @@ pub fn split(
             fn #method<Scalar: #rt::Scalar>(
                 &self,
                 __t: ::core::primitive::f64,
-                __x: &[Scalar],
+                __x: &[Scalar; #n_states],
                 #derived_param
                 #(#params)*
-                __dx: &mut [Scalar],
-                __y: &mut [Scalar],
-                __p: &mut [Scalar],
+                __dx: ::core::option::Option<&mut [Scalar; #n_states]>,
+                __y: ::core::option::Option<&mut [Scalar; #n_outputs]>,
+                __p: ::core::option::Option<&mut [Scalar; 3]>,
             ) -> (#(#out_types,)*) {
                 #prelude
                 #(#statements)*
@@ -294,7 +299,15 @@ pub fn split(
             }
         });
         calls.extend(quote! {
-            let (#(#out_names,)*) = self.#method::<Scalar>(__t, __x, #derived_arg #(#args)* __dx, __y, __p);
+            let (#(#out_names,)*) = self.#method::<Scalar>(
+                __t,
+                __x,
+                #derived_arg
+                #(#args)*
+                __dx.as_deref_mut(),
+                __y.as_deref_mut(),
+                __p.as_deref_mut(),
+            );
         });
     }
     let cache = has_cache.then(|| {
@@ -309,24 +322,41 @@ pub fn split(
         }
     });
     let zero = quote!(<Scalar as #rt::Scalar>::from_f64(0.0));
+    let option = quote!(::core::option::Option);
+    // The callers checked the lengths: as arrays, the chunks' indices need no checks.
+    let state_array = quote! {
+        let ::core::result::Result::Ok(__x) = <&[Scalar; #n_states]>::try_from(__x) else {
+            ::core::unreachable!("state vector length")
+        };
+    };
+    let none = |n: TokenStream| quote!(#option::<&mut [Scalar; #n]>::None);
+    let (no_dx, no_y, no_p) = (
+        none(quote!(#n_states)),
+        none(quote!(#n_outputs)),
+        none(quote!(3)),
+    );
     Chunked {
         methods,
         derivatives: quote! {
             #cache
-            let (__y, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #state_array
+            let mut __dx = <&mut [Scalar; #n_states]>::try_from(__dx).ok();
+            let (mut __y, mut __p) = (#no_y, #no_p);
             #calls
         },
         outputs: quote! {
             #cache
-            let (__dx, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #state_array
+            let mut __y = <&mut [Scalar; #n_outputs]>::try_from(__y).ok();
+            let (mut __dx, mut __p) = (#no_dx, #no_p);
             #calls
         },
         power: quote! {
             #cache
+            #state_array
             let mut __sums = [#zero, #zero, #zero];
             {
-                let (__dx, __y, __p): (&mut [Scalar], &mut [Scalar], &mut [Scalar]) =
-                    (&mut [], &mut [], &mut __sums);
+                let (mut __dx, mut __y, mut __p) = (#no_dx, #no_y, #option::Some(&mut __sums));
                 #calls
             }
             let [stored, input, dissipated] = __sums;
