@@ -306,5 +306,8 @@ fn large_state_records_compare_field_by_field() {
     let mut z = x;
     z[0] = f64::NAN;
     let nan = damped::ChainState::from_slice(&z);
-    assert_ne!(nan, nan, "NaN is unequal to itself, as derived PartialEq has it");
+    assert_ne!(
+        nan, nan,
+        "NaN is unequal to itself, as derived PartialEq has it"
+    );
 }
