@@ -66,7 +66,7 @@ fn main() {
     let jac_max: usize = std::env::var("SIZING_JACOBIAN_MAX")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(10_000);
+        .unwrap_or(20_000);
     if n <= jac_max {
         let mut evaluator = JacobianEvaluator::new(&model);
         // The solvers' path: only the pattern's entries (no n x n matrix).
