@@ -100,6 +100,10 @@ pub fn split(
     let scalar = quote!(Scalar);
     let rt = quote!(::bgdsl_runtime);
     let bindings = prelude_bindings(graph, equations, derived);
+    let mut defined_by: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    for (i, binding) in bindings.iter().enumerate() {
+        defined_by.entry(&binding.defines).or_default().push(i);
+    }
     let mut steps: Vec<Step> = equations
         .ordered
         .iter()
@@ -119,7 +123,17 @@ pub fn split(
         .enumerate()
         .map(|(i, s)| (s.name.clone(), i))
         .collect();
-    // Each write goes with the last equation it reads (the first when it reads none).
+    // The first equation that reads each name (a state, a parameter): where a write
+    // that reads no equation goes, so that such writes (a storage element's energy)
+    // spread over the chunks instead of all landing in the first.
+    let mut first_reader: BTreeMap<String, usize> = BTreeMap::new();
+    for (i, step) in steps.iter().enumerate() {
+        for read in &step.item.reads {
+            first_reader.entry(read.clone()).or_insert(i);
+        }
+    }
+    // Each write goes with the last equation it reads, else with the first equation
+    // that reads what it reads (the first equation when none does).
     let mut place = |sink: Sink, tokens: TokenStream| {
         let item = item(derived.replace(tokens));
         let at = item
@@ -127,6 +141,7 @@ pub fn split(
             .iter()
             .filter_map(|r| defined_at.get(r))
             .max()
+            .or_else(|| item.reads.iter().filter_map(|r| first_reader.get(r)).max())
             .copied()
             .unwrap_or(0);
         steps[at].sinks.push((sink, item));
@@ -156,6 +171,11 @@ pub fn split(
     for (bucket, term) in power {
         place(Sink::Power, quote!(__p[#bucket] += #term;));
     }
+    let n_states: usize = equations.states.iter().map(|s| s.shape.len()).sum();
+    let n_outputs: usize = crate::codegen::output_shapes(graph, equations)
+        .iter()
+        .map(|s| s.len())
+        .sum();
     let has_cache = derived.has_cache();
     let cache_type = Derived::cache_type(&graph.name);
     let derived_param = has_cache.then(|| quote!(__derived: &#cache_type,));
@@ -237,7 +257,7 @@ pub fn split(
         });
         let out_names: Vec<Ident> = returned[c].iter().map(|n| ident(n)).collect();
         let out_types = returned[c].iter().map(|n| type_of[n]);
-        let prelude = needed_bindings(&bindings, &reads[c]);
+        let prelude = needed_bindings(&bindings, &defined_by, &reads[c]);
         let statements = steps.iter().map(|s| &s.item.tokens);
         let sink = |which: Sink, guard: TokenStream| {
             let writes: Vec<&TokenStream> = steps
@@ -248,9 +268,18 @@ pub fn split(
                 .collect();
             (!writes.is_empty()).then(|| quote!(if #guard { #(#writes)* }))
         };
-        let dx_writes = sink(Sink::Derivatives, quote!(!__dx.is_empty()));
-        let y_writes = sink(Sink::Outputs, quote!(!__y.is_empty()));
-        let p_writes = sink(Sink::Power, quote!(!__p.is_empty()));
+        let dx_writes = sink(
+            Sink::Derivatives,
+            quote!(let ::core::option::Option::Some(__dx) = __dx),
+        );
+        let y_writes = sink(
+            Sink::Outputs,
+            quote!(let ::core::option::Option::Some(__y) = __y),
+        );
+        let p_writes = sink(
+            Sink::Power,
+            quote!(let ::core::option::Option::Some(__p) = __p),
+        );
         let doc = format!(
             "Part {} of the model's evaluation (see `derivatives`).",
             c + 1
@@ -263,12 +292,12 @@ pub fn split(
             fn #method<Scalar: #rt::Scalar>(
                 &self,
                 __t: ::core::primitive::f64,
-                __x: &[Scalar],
+                __x: &[Scalar; #n_states],
                 #derived_param
                 #(#params)*
-                __dx: &mut [Scalar],
-                __y: &mut [Scalar],
-                __p: &mut [Scalar],
+                __dx: ::core::option::Option<&mut [Scalar; #n_states]>,
+                __y: ::core::option::Option<&mut [Scalar; #n_outputs]>,
+                __p: ::core::option::Option<&mut [Scalar; 3]>,
             ) -> (#(#out_types,)*) {
                 #prelude
                 #(#statements)*
@@ -279,7 +308,15 @@ pub fn split(
             }
         });
         calls.extend(quote! {
-            let (#(#out_names,)*) = self.#method::<Scalar>(__t, __x, #derived_arg #(#args)* __dx, __y, __p);
+            let (#(#out_names,)*) = self.#method::<Scalar>(
+                __t,
+                __x,
+                #derived_arg
+                #(#args)*
+                __dx.as_deref_mut(),
+                __y.as_deref_mut(),
+                __p.as_deref_mut(),
+            );
         });
     }
     let cache = has_cache.then(|| {
@@ -294,24 +331,41 @@ pub fn split(
         }
     });
     let zero = quote!(<Scalar as #rt::Scalar>::from_f64(0.0));
+    let option = quote!(::core::option::Option);
+    // The callers checked the lengths: as arrays, the chunks' indices need no checks.
+    let state_array = quote! {
+        let ::core::result::Result::Ok(__x) = <&[Scalar; #n_states]>::try_from(__x) else {
+            ::core::unreachable!("state vector length")
+        };
+    };
+    let none = |n: TokenStream| quote!(#option::<&mut [Scalar; #n]>::None);
+    let (no_dx, no_y, no_p) = (
+        none(quote!(#n_states)),
+        none(quote!(#n_outputs)),
+        none(quote!(3)),
+    );
     Chunked {
         methods,
         derivatives: quote! {
             #cache
-            let (__y, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #state_array
+            let mut __dx = <&mut [Scalar; #n_states]>::try_from(__dx).ok();
+            let (mut __y, mut __p) = (#no_y, #no_p);
             #calls
         },
         outputs: quote! {
             #cache
-            let (__dx, __p): (&mut [Scalar], &mut [Scalar]) = (&mut [], &mut []);
+            #state_array
+            let mut __y = <&mut [Scalar; #n_outputs]>::try_from(__y).ok();
+            let (mut __dx, mut __p) = (#no_dx, #no_p);
             #calls
         },
         power: quote! {
             #cache
+            #state_array
             let mut __sums = [#zero, #zero, #zero];
             {
-                let (__dx, __y, __p): (&mut [Scalar], &mut [Scalar], &mut [Scalar]) =
-                    (&mut [], &mut [], &mut __sums);
+                let (mut __dx, mut __y, mut __p) = (#no_dx, #no_y, #option::Some(&mut __sums));
                 #calls
             }
             let [stored, input, dissipated] = __sums;
@@ -345,20 +399,31 @@ fn prelude_bindings(graph: &Graph, equations: &Equations, derived: &Derived) -> 
 }
 
 /// The bindings that `reads` need, with what they read in turn, in prelude order.
-fn needed_bindings(bindings: &[Binding], reads: &BTreeSet<String>) -> TokenStream {
-    let mut needed = reads.clone();
-    let mut keep = vec![false; bindings.len()];
-    for (i, binding) in bindings.iter().enumerate().rev() {
-        if needed.contains(&binding.defines) {
-            keep[i] = true;
-            needed.extend(binding.reads.iter().cloned());
+/// `defined_by` maps a name to the bindings that define it, in prelude order, so each
+/// chunk costs what it reads, not the whole prelude.
+fn needed_bindings(
+    bindings: &[Binding],
+    defined_by: &BTreeMap<&str, Vec<usize>>,
+    reads: &BTreeSet<String>,
+) -> TokenStream {
+    let mut keep = BTreeSet::new();
+    let mut pending: Vec<(&str, usize)> =
+        reads.iter().map(|r| (r.as_str(), bindings.len())).collect();
+    while let Some((name, before)) = pending.pop() {
+        // The binding in scope just before `before` (a later `let` shadows).
+        let Some(&at) = defined_by
+            .get(name)
+            .and_then(|all| all.iter().rev().find(|&&i| i < before))
+        else {
+            continue;
+        };
+        if !keep.insert(at) {
+            continue;
         }
+        pending.extend(bindings[at].reads.iter().map(|r| (r.as_str(), at)));
     }
-    bindings
-        .iter()
-        .zip(keep)
-        .filter(|(_, keep)| *keep)
-        .map(|(b, _)| b.tokens.clone())
+    keep.into_iter()
+        .map(|i| bindings[i].tokens.clone())
         .collect()
 }
 
@@ -424,4 +489,68 @@ fn scan(stream: TokenStream, idents: &mut BTreeSet<String>) -> usize {
 /// The number of tokens in `stream`, groups counted through.
 fn count_tokens(stream: TokenStream) -> usize {
     scan(stream, &mut BTreeSet::new())
+}
+
+#[cfg(test)]
+mod tests {
+    use proc_macro2::{TokenStream, TokenTree};
+
+    /// The sizing benchmark's damped chain (`models/benches/sizing/generate.sh scalar`)
+    /// of `cells` cells: a force, then mass, spring and damper per cell.
+    fn chain(cells: usize) -> TokenStream {
+        let mut text = String::from(
+            "pub model Chain { param m = 1.0; param k = 100.0; param c = 0.5; param force = 1.0;
+             Se source = force * (3.0 * t).sin(); R ground = c; source -> v1; v1 -> ground;",
+        );
+        for i in 1..=cells {
+            let w = 1.0 + (i % 7) as f64 * 0.125;
+            text += &format!(
+                "1 v{i}; I m{i} = m * {w:.3}; 0 n{i}; C k{i} = k / {w:.3}; 1 d{i};
+                 R r{i} = c * {w:.3}; v{i} -> {{ m{i}, n{i} }}; n{i} -> d{i} -> {{ k{i}, r{i} }};"
+            );
+            if i < cells {
+                text += &format!("n{i} -> v{};", i + 1);
+            }
+        }
+        text += "output x1 = k1.q; }";
+        text.parse().expect("the chain tokenizes")
+    }
+
+    /// Each `fn __chunk_<k>` item's token count (its signature and body), in order.
+    fn chunk_sizes(expansion: TokenStream) -> Vec<usize> {
+        let trees: Vec<TokenTree> = expansion.into_iter().collect();
+        let mut sizes = Vec::new();
+        for (i, tree) in trees.iter().enumerate() {
+            if let TokenTree::Group(group) = tree {
+                sizes.extend(chunk_sizes(group.stream()));
+            }
+            let is_chunk = matches!(tree, TokenTree::Ident(f) if f == "fn")
+                && matches!(trees.get(i + 1), Some(TokenTree::Ident(n)) if n.to_string().starts_with("__chunk_"));
+            if is_chunk {
+                let body = trees[i..]
+                    .iter()
+                    .find(|t| matches!(t, TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace));
+                if let Some(TokenTree::Group(body)) = body {
+                    sizes.push(super::count_tokens(body.stream()));
+                }
+            }
+        }
+        sizes
+    }
+
+    /// Every chunk stays near the chunk size, the first included: the writes that read
+    /// no equation (each storage element's energy reads only its state) spread over
+    /// the chunks with their states. Before, all 400 energy terms of this chain landed
+    /// in the first chunk, 9 times the size of the others.
+    #[test]
+    fn no_chunk_grows_with_the_model() {
+        let sizes = chunk_sizes(crate::expand::expand(chain(400)));
+        assert!(sizes.len() > 10, "the chain is chunked: {sizes:?}");
+        let largest = sizes.iter().max().copied().unwrap_or(0);
+        assert!(
+            largest < 2 * super::CHUNK_TOKENS,
+            "largest chunk {largest} tokens (target {}): {sizes:?}",
+            super::CHUNK_TOKENS
+        );
+    }
 }

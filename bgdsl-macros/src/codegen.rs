@@ -785,6 +785,10 @@ fn params_struct(vis: &Visibility, model: &Ident, declared: &[ParamDecl]) -> Tok
     }
 }
 
+/// Records with more fields than this compare field by field in flat statements
+/// rather than through the derived `&&` chain (see [`record_struct`]).
+const FLAT_EQ_ABOVE: usize = 64;
+
 fn record_struct(
     vis: &Visibility,
     ident: &Ident,
@@ -804,14 +808,37 @@ fn record_struct(
     } else {
         (quote!(), quote!())
     };
+    // The derived `==` is one `a == b && ...` expression, nested as deep as the record
+    // has fields: at 10,000 states rustc's name resolution overflows its stack on it.
+    // A large record compares field by field in flat statements instead.
+    let (partial_eq_derive, partial_eq_impl) = if n > FLAT_EQ_ABOVE {
+        let compare = fields
+            .iter()
+            .map(|f| quote!(if self.#f != other.#f { return false; }));
+        (
+            quote!(),
+            quote! {
+                impl<T: ::core::cmp::PartialEq> ::core::cmp::PartialEq for #ident<T> {
+                    fn eq(&self, other: &Self) -> bool {
+                        #(#compare)*
+                        true
+                    }
+                }
+            },
+        )
+    } else {
+        (quote!(, ::core::cmp::PartialEq), quote!())
+    };
     quote! {
         #[doc = #doc]
-        #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::default::Default, ::core::cmp::PartialEq)]
+        #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::default::Default #partial_eq_derive)]
         #[allow(non_snake_case)]
         #vis struct #ident<T> {
             #( #[doc = #docs] pub #fields: T, )*
             #marker_field
         }
+
+        #partial_eq_impl
 
         impl<T: ::core::marker::Copy> #ident<T> {
             /// Reads the values in vector order. Panics if `values` has the wrong length.
@@ -1251,48 +1278,60 @@ fn sum(terms: &[Term], span: Span) -> TokenStream {
 fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations) -> TokenStream {
     let rt = quote!(::bgdsl_runtime);
     let model = graph.name.to_string();
+    // Each element as `__e(name, group, code)`, `code` = 10 kind + causality (+ 100
+    // when modulated), indices into the tables of `__e` below; each bond as
+    // `__b(label or "", from, to, dimension, stroke_at)`. A call is a quarter of the
+    // tokens of a struct literal, and a large model lists tens of thousands.
     let elements = graph.element_ids().map(|id| {
         let element = graph.element(id);
         // `crank__tip__v`: the element `v` of the instance `crank.tip`.
         let full = element.name.to_string();
         let (group, name) = match full.rsplit_once(crate::flatten::SEPARATOR) {
-            Some((group, name)) => (crate::flatten::display(group), crate::flatten::display(name)),
+            Some((group, name)) => (
+                crate::flatten::display(group),
+                crate::flatten::display(name),
+            ),
             None => (String::new(), crate::flatten::display(&full)),
         };
-        let kind = match element.kind {
-            ElementKind::Se => quote!(Se),
-            ElementKind::Sf => quote!(Sf),
-            ElementKind::C => quote!(C),
-            ElementKind::I => quote!(I),
-            ElementKind::R => quote!(R),
-            ElementKind::Tf => quote!(Tf),
-            ElementKind::Gy => quote!(Gy),
-            ElementKind::Zero => quote!(Zero),
-            ElementKind::One => quote!(One),
-            ElementKind::Split => quote!(Split),
+        let kind: u8 = match element.kind {
+            ElementKind::Se => 0,
+            ElementKind::Sf => 1,
+            ElementKind::C => 2,
+            ElementKind::I => 3,
+            ElementKind::R => 4,
+            ElementKind::Tf => 5,
+            ElementKind::Gy => 6,
+            ElementKind::Zero => 7,
+            ElementKind::One => 8,
+            ElementKind::Split => 9,
         };
-        let element_causality = match causality.element[id.0] {
-            ElementCausality::Integral => quote!(Integral),
-            ElementCausality::Resistance => quote!(Resistance),
-            ElementCausality::Conductance => quote!(Conductance),
-            ElementCausality::Fixed => quote!(Fixed),
-            ElementCausality::Derivative => quote!(Derivative),
+        let element_causality: u8 = match causality.element[id.0] {
+            ElementCausality::Integral => 0,
+            ElementCausality::Resistance => 1,
+            ElementCausality::Conductance => 2,
+            ElementCausality::Fixed => 3,
+            ElementCausality::Derivative => 4,
         };
-        let modulated = element.modulated;
-        quote!(__E { name: #name, group: #group, kind: __K::#kind, modulated: #modulated, causality: __C::#element_causality })
+        let code = proc_macro2::Literal::u8_unsuffixed(
+            10 * kind + element_causality + if element.modulated { 100 } else { 0 },
+        );
+        quote!(__e(#name, #group, #code))
     });
     let bonds = graph.bond_ids().map(|id| {
         let bond = graph.bond(id);
-        let label = match &bond.label {
-            Some(label) => {
-                let label = crate::flatten::display(&label.to_string());
-                quote!(__Some(#label))
-            }
-            None => quote!(__None),
-        };
-        let (from, to, stroke) = (bond.from.0, bond.to.0, causality.stroke_at[id.0].0);
-        let dimension = graph.bond_dims[id.0];
-        quote!(__B { label: #label, from: #from, to: #to, dimension: #dimension, stroke_at: #stroke })
+        let label = bond
+            .label
+            .as_ref()
+            .map(|label| crate::flatten::display(&label.to_string()))
+            .unwrap_or_default();
+        let number = |n: usize| proc_macro2::Literal::usize_unsuffixed(n);
+        let (from, to, stroke) = (
+            number(bond.from.0),
+            number(bond.to.0),
+            number(causality.stroke_at[id.0].0),
+        );
+        let dimension = number(graph.bond_dims[id.0]);
+        quote!(__b(#label, #from, #to, #dimension, #stroke))
     });
     let loops = equations
         .implicit
@@ -1306,9 +1345,32 @@ fn graph_description(graph: &Graph, causality: &Causality, equations: &Equations
     quote! {
         /// The causal bond graph this model was generated from.
         pub const GRAPH: #rt::CausalGraph = {
-            // Short names: a large model lists thousands of elements and bonds.
             use #rt::{GraphElement as __E, ElementKind as __K, ElementCausality as __C, GraphBond as __B};
-            use ::core::option::Option::{Some as __Some, None as __None};
+            use ::core::primitive::{str as __str, u8 as __u8, usize as __usize};
+            const fn __e(name: &'static __str, group: &'static __str, code: __u8) -> __E {
+                const KINDS: [__K; 10] = [
+                    __K::Se, __K::Sf, __K::C, __K::I, __K::R,
+                    __K::Tf, __K::Gy, __K::Zero, __K::One, __K::Split,
+                ];
+                const CAUSALITIES: [__C; 5] = [
+                    __C::Integral, __C::Resistance, __C::Conductance, __C::Fixed, __C::Derivative,
+                ];
+                __E {
+                    name,
+                    group,
+                    kind: KINDS[(code % 100 / 10) as __usize],
+                    modulated: code >= 100,
+                    causality: CAUSALITIES[(code % 10) as __usize],
+                }
+            }
+            const fn __b(label: &'static __str, from: __usize, to: __usize, dimension: __usize, stroke_at: __usize) -> __B {
+                let label = if label.is_empty() {
+                    ::core::option::Option::None
+                } else {
+                    ::core::option::Option::Some(label)
+                };
+                __B { label, from, to, dimension, stroke_at }
+            }
             #rt::CausalGraph {
                 model: #model,
                 elements: &[#(#elements),*],

@@ -8,12 +8,14 @@
 //! - Input power: `e · f` at each source's port (positive when it delivers).
 //! - Dissipated power: `e · f` at each resistor's port.
 
+use std::collections::BTreeMap;
+
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
 use syn::Ident;
 
 use crate::equations::{Equations, Op, Rhs};
-use crate::ir::{ElementKind, Graph, Shape};
+use crate::ir::{ElementId, ElementKind, Graph, Shape};
 use crate::signals::Signal;
 
 /// Gauss–Legendre nodes and weights on [0, 1] (5 points; Abramowitz & Stegun 25.4.30,
@@ -49,12 +51,20 @@ pub fn account(graph: &Graph, equations: &Equations) -> TokenStream {
 /// power, 2 dissipated power.
 pub fn terms(graph: &Graph, equations: &Equations) -> Vec<(usize, TokenStream)> {
     let mut terms = Vec::new();
+    // Each equation by what it defines and its element: one lookup per state.
+    let defining: BTreeMap<(Signal, ElementId), usize> = equations
+        .ordered
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(i, eq)| ((eq.defines, eq.element), i))
+        .collect();
     for (index, state) in equations.states.iter().enumerate() {
         let Some(element) = state.element else {
             continue;
         };
         let x = Signal::State(index).ident(Span::call_site());
-        let Some(law) = storage_law(graph, equations, element, index) else {
+        let Some(law) = storage_law(graph, equations, &defining, element, index) else {
             continue;
         };
         terms.push((0, law.energy(state.shape, &x)));
@@ -158,7 +168,8 @@ impl Law<'_> {
 fn storage_law<'a>(
     graph: &Graph,
     equations: &'a Equations,
-    element: crate::ir::ElementId,
+    defining: &BTreeMap<(Signal, ElementId), usize>,
+    element: ElementId,
     state: usize,
 ) -> Option<Law<'a>> {
     let bond = graph.element(element).bonds[0];
@@ -166,10 +177,7 @@ fn storage_law<'a>(
         ElementKind::C => Signal::Effort(bond),
         _ => Signal::Flow(bond),
     };
-    let equation = equations
-        .ordered
-        .iter()
-        .find(|eq| eq.defines == defines && eq.element == element)?;
+    let equation = &equations.ordered[*defining.get(&(defines, element))?];
     let shape = equations.states[state].shape;
     match &equation.rhs {
         Rhs::Law { bindings, expr, .. } => Some(Law::Written {

@@ -7,7 +7,7 @@
 //! converted where it is an operand of an arithmetic or comparison operator (`2 * q`),
 //! and left alone elsewhere (`q.powi(3)`).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use proc_macro2::Span;
 use quote::quote_spanned;
@@ -277,6 +277,8 @@ impl Named {
 #[derive(Default)]
 pub struct Vocabulary {
     names: Vec<(Ident, Named)>,
+    /// Each name's first entry in `names` (lookups in a large model stay O(log n)).
+    index: BTreeMap<String, usize>,
     /// Names not to report as unknown (their declaration failed and was reported).
     tolerated: BTreeSet<String>,
 }
@@ -289,14 +291,15 @@ impl Vocabulary {
 
     /// Adds a name.
     pub fn add(&mut self, name: &Ident, named: Named) {
+        self.index
+            .entry(name.to_string())
+            .or_insert(self.names.len());
         self.names.push((name.clone(), named));
     }
 
     fn lookup(&self, name: &Ident) -> Option<Named> {
-        self.names
-            .iter()
-            .find(|(known, _)| known == name)
-            .map(|(_, named)| named.clone())
+        let at = *self.index.get(&name.to_string())?;
+        self.names.get(at).map(|(_, named)| named.clone())
     }
 
     /// ``; help: did you mean the parameter `force`?`` for the nearest name one or two

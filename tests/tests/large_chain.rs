@@ -290,3 +290,24 @@ fn rigid_body_chain_balances_power() {
         "dE/dt {rate} vs input {input} - dissipated {dissipated}"
     );
 }
+
+/// A state record of more than 64 fields compares field by field in flat statements
+/// (the derived `a == b && ...` chain overflowed rustc's stack at 10,000 states): equal
+/// records are equal, and a difference in the last field alone is seen.
+#[test]
+fn large_state_records_compare_field_by_field() {
+    let n = damped::Chain::N_STATES;
+    let x = state(n);
+    let a = damped::ChainState::from_slice(&x);
+    assert_eq!(a, damped::ChainState::from_slice(&x));
+    let mut y = x.clone();
+    y[n - 1] += 1e-12;
+    assert_ne!(a, damped::ChainState::from_slice(&y));
+    let mut z = x;
+    z[0] = f64::NAN;
+    let nan = damped::ChainState::from_slice(&z);
+    assert_ne!(
+        nan, nan,
+        "NaN is unequal to itself, as derived PartialEq has it"
+    );
+}

@@ -6,9 +6,10 @@
 mod model;
 
 use std::hint::black_box;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use bgdsl_runtime::{simulate, JacobianEvaluator, Model, Solver};
+use bgdsl_runtime::{simulate, Jacobian, JacobianEvaluator, Model, Solver};
 use model::Subject;
 
 /// Seconds per call of `f`, repeated for at least `budget`.
@@ -65,12 +66,13 @@ fn main() {
     let jac_max: usize = std::env::var("SIZING_JACOBIAN_MAX")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(10_000);
+        .unwrap_or(20_000);
     if n <= jac_max {
         let mut evaluator = JacobianEvaluator::new(&model);
-        let mut jac = vec![0.0; n * n];
+        // The solvers' path: only the pattern's entries (no n x n matrix).
+        let mut jac = Jacobian::new(Arc::new(evaluator.pattern().clone()));
         let jacobian = per_call(budget, || {
-            evaluator.evaluate(&model, 0.1, black_box(&x), &mut jac);
+            evaluator.evaluate_sparse(&model, 0.1, black_box(&x), &mut jac);
         });
         println!("colours={}", evaluator.n_colours());
         println!("jacobian_us={:.3}", jacobian * 1e6);

@@ -13,7 +13,7 @@
 #   models/benches/sizing/run.sh --quick          # stops at 1,000 states
 #   models/benches/sizing/run.sh --dev            # also times the dev-profile build
 #   SIZES="200 400" KINDS=scalar models/benches/sizing/run.sh
-#   SIZING_T_END=0.01 SIZING_STIFF_MAX=2000 SIZING_JACOBIAN_MAX=10000  # program.rs's knobs
+#   SIZING_T_END=0.01 SIZING_STIFF_MAX=2000 SIZING_JACOBIAN_MAX=20000  # program.rs's knobs
 #
 # Long (the 10,000-state builds take minutes each): not run in CI; use `nice -n 10`. On a
 # shared machine compare the build's CPU seconds (user + system), not its wall time.
