@@ -507,7 +507,8 @@ mod tests {
             err.to_string(),
             "unknown model `crank`; the models are: quick_return, quick_return_rigid, \
              quick_return_rigid_coupled, quick_return_friction, quick_return_end_stop, bouncing_ball, rectifier, \
-             rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo"
+             rectifier_exp, stick_slip, end_stop, clutch, oscillator, rlc, dc_motor, quarter_car, duffing, dc_servo, \
+             butterworth"
         );
     }
 }
