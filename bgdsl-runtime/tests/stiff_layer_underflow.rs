@@ -16,31 +16,15 @@
 //! layer, calls the tolerance too tight and says to raise it, which is the remedy
 //! (`rtol = 1e-10` reaches 11 digits, `docs/solvers.md`).
 
-use bgdsl_runtime::{Model, Radau5Options, Scalar, Simulation, Solver, SolverError};
+mod stiff_common;
+
+use bgdsl_runtime::{Radau5Options, Simulation, Solver, SolverError};
+use stiff_common::StiffVanDerPol;
 
 /// Van der Pol in Liénard's scaled form, `y1' = y2`, `y2' = ((1 - y1²) y2 - y1) / ε`,
 /// with `ε = 1 / μ² = 1e-12`, from `(2, 0)` to `t = 2` (the Bari test set's VDPOL with
 /// `μ = 1e6` instead of 1e3).
-struct StiffVanDerPol;
-
-impl Model for StiffVanDerPol {
-    type Params = ();
-    const NAME: &'static str = "van_der_pol_mu_1e6";
-    const STATE_NAMES: &'static [&'static str] = &["y1", "y2"];
-    const OUTPUT_NAMES: &'static [&'static str] = &[];
-    fn params(&self) -> &() {
-        &()
-    }
-    fn initial_state(&self, x0: &mut [f64]) {
-        x0.copy_from_slice(&[2.0, 0.0]);
-    }
-    fn derivatives<T: Scalar>(&self, _t: f64, y: &[T], dy: &mut [T]) {
-        let one = T::from_f64(1.0);
-        dy[0] = y[1];
-        dy[1] = ((one - y[0] * y[0]) * y[1] - y[0]) / T::from_f64(1e-12);
-    }
-    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
-}
+const VDP_MU_1E6: StiffVanDerPol = StiffVanDerPol(1e-12);
 
 fn radau5(rtol: f64) -> Solver {
     Solver::Radau5(Radau5Options {
@@ -56,7 +40,7 @@ fn radau5(rtol: f64) -> Solver {
 /// here is that run's, y1(2) = 1.70554621753...).
 #[test]
 fn rtol_1e_minus_10_crosses_the_layer() {
-    let mut sim = Simulation::new(&StiffVanDerPol, radau5(1e-10)).unwrap();
+    let mut sim = Simulation::new(&VDP_MU_1E6, radau5(1e-10)).unwrap();
     sim.run(0.0, &[2.0, 0.0], &[2.0], &mut ()).unwrap();
     let y1 = sim.state()[0];
     assert!((y1 - 1.705_546_217_5).abs() < 1e-8, "y1(2) = {y1}");
@@ -66,7 +50,7 @@ fn rtol_1e_minus_10_crosses_the_layer() {
 /// resolution, and the error says the tolerance is too tight and how to loosen it.
 #[test]
 fn rtol_1e_minus_11_stops_at_the_layer_naming_the_tolerance() {
-    let mut sim = Simulation::new(&StiffVanDerPol, radau5(1e-11)).unwrap();
+    let mut sim = Simulation::new(&VDP_MU_1E6, radau5(1e-11)).unwrap();
     let err = sim.run(0.0, &[2.0, 0.0], &[2.0], &mut ()).unwrap_err();
     let SolverError::StepUnderflow {
         t, h, too_tight, ..

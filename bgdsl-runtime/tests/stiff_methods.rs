@@ -109,28 +109,6 @@ fn rodas5p_converges_with_order_5() {
     }
 }
 
-/// Van der Pol as [`VanDerPol`] with `ε = 1 / μ²` chosen: `μ = 1e6` gives `ε = 1e-12`.
-struct StiffVanDerPol(f64);
-
-impl Model for StiffVanDerPol {
-    type Params = ();
-    const NAME: &'static str = "van_der_pol_mu_1e6";
-    const STATE_NAMES: &'static [&'static str] = &["y1", "y2"];
-    const OUTPUT_NAMES: &'static [&'static str] = &[];
-    fn params(&self) -> &() {
-        &()
-    }
-    fn initial_state(&self, x0: &mut [f64]) {
-        x0.copy_from_slice(&[2.0, 0.0]);
-    }
-    fn derivatives<T: Scalar>(&self, _t: f64, y: &[T], dy: &mut [T]) {
-        let one = T::from_f64(1.0);
-        dy[0] = y[1];
-        dy[1] = ((one - y[0] * y[0]) * y[1] - y[0]) / T::from_f64(self.0);
-    }
-    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
-}
-
 /// `|y2 - y3 - y4| / |y2|` at each of the sample times (`y2 != 0`), largest.
 fn e5_invariant(traj: &Trajectory) -> f64 {
     (0..traj.len())

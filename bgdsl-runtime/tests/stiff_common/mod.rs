@@ -75,6 +75,29 @@ impl Model for VanDerPol {
     fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
 }
 
+/// Van der Pol as [`VanDerPol`] with its `ε = 1 / μ²` chosen: `StiffVanDerPol(1e-12)` is
+/// `μ = 1e6` (the Bari set's VDPOL has `μ = 1e3`).
+pub struct StiffVanDerPol(pub f64);
+
+impl Model for StiffVanDerPol {
+    type Params = ();
+    const NAME: &'static str = "van_der_pol_mu_1e6";
+    const STATE_NAMES: &'static [&'static str] = &["y1", "y2"];
+    const OUTPUT_NAMES: &'static [&'static str] = &[];
+    fn params(&self) -> &() {
+        &()
+    }
+    fn initial_state(&self, x0: &mut [f64]) {
+        x0.copy_from_slice(&[2.0, 0.0]);
+    }
+    fn derivatives<T: Scalar>(&self, _t: f64, y: &[T], dy: &mut [T]) {
+        let one = T::from_f64(1.0);
+        dy[0] = y[1];
+        dy[1] = ((one - y[0] * y[0]) * y[1] - y[0]) / T::from_f64(self.0);
+    }
+    fn outputs<T: Scalar>(&self, _t: f64, _x: &[T], _y: &mut [T]) {}
+}
+
 /// VDPOL at `t = 2` (Bari test set, problem VDPOL, "Reference solution").
 pub const VDP_REF: [f64; 2] = [0.1706167732170483e1, -0.8928097010247975];
 
