@@ -54,7 +54,7 @@ use models::hybrid::{
 };
 use models::quick_return::QuickReturn;
 use models::quick_return_hybrid::QuickReturnFriction;
-use models::{DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
+use models::{Butterworth, DcMotor, Duffing, Oscillator, QuarterCar, SeriesRlc};
 
 pub use bgdsl_fmi_core::{find_library, library_file_name, FmuError};
 
@@ -69,6 +69,7 @@ pub static MODELS: &[ModelEntry] = &[
     entry::<QuarterCar>("quarter_car"),
     entry::<Duffing>("duffing"),
     entry::<DcServo>("dc_servo"),
+    entry::<Butterworth>("butterworth"),
     // With events and modes.
     entry::<BouncingBall>("bouncing_ball"),
     entry::<HalfWaveRectifier>("rectifier"),

@@ -1,8 +1,8 @@
 //! The FMUs checked by FMPy (PyPI), an FMI importer written by others.
 //!
 //! The test writes the FMUs of the mass-spring-damper, the DC motor, the DC servo (the
-//! motor with its voltage and load torque as FMU inputs) and the quick return
-//! mechanism with this crate's shared library (the `cdylib` that `cargo test`
+//! motor with its voltage and load torque as FMU inputs), the quick return
+//! mechanism and the Butterworth filter (its source voltage an FMU input) with this crate's shared library (the `cdylib` that `cargo test`
 //! builds beside the test, `target/<profile>/libbgdsl_fmi.so`; `BGDSL_FMI_LIBRARY`
 //! overrides), then runs `tests/fmpy_check.py`, which
 //!
@@ -10,8 +10,9 @@
 //! 2. simulates them with parameters (and the servo's inputs, and the oscillator's
 //!    initial spring deflection) set through `start_values` (so through `fmi2SetReal`
 //!    before initialisation): the oscillator,
-//!    the DC motor and the servo as Model Exchange (FMPy's CVode integrates) and as Co-Simulation (our Radau5 integrates
-//!    inside the FMU), the quick return as Co-Simulation, every 1 ms;
+//!    the DC motor, the servo and the filter as Model Exchange (FMPy's CVode integrates)
+//!    and as Co-Simulation (our Radau5 integrates inside the FMU), the quick return as
+//!    Co-Simulation, every 1 ms (the filter every 10 ms);
 //! 3. calls one FMU wrongly through FMPy's own bindings and checks each call fails
 //!    with fmi2Error and a logged reason.
 //!
@@ -31,6 +32,10 @@
 //!   signal's range. (CVode's global error is some ten times its local tolerance: at
 //!   rtol 1e-9 the oscillator deviates by 1.4e-5, at 1e-10 by 7e-7.)
 //!
+//! The filter's load voltage is also checked against its closed-form step response
+//! ([`butterworth_step`]): to 1e-6 of the final value for Model Exchange, 1e-4 for
+//! Co-Simulation (the solver tolerances above).
+//!
 //! The test skips, loudly, only when `python3` or the `fmpy` module is missing; `.ci/run`
 //! installs FMPy so that in CI it always runs.
 
@@ -42,7 +47,7 @@ use bgdsl_fmi_core::{Exportable, ModelDescription, Role};
 use bgdsl_runtime::{Radau5Options, Simulation, Solver, Stepper};
 use models::dc_servo::DcServo;
 use models::quick_return::QuickReturn;
-use models::{DcMotor, Oscillator};
+use models::{Butterworth, DcMotor, Oscillator};
 
 const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fmpy_check.py");
 const FMPY_VERSION: &str = "0.3.32";
@@ -177,7 +182,33 @@ const RUNS: &[Run] = &[
         // A scalar and one number of a vector parameter (`R3C[1]` is `R3C[0]` in Rust).
         start_values: &[("w_drive", 4.0), ("R3C[1]", 30.0)],
     },
+    // A step of the source voltage (an input) into the filter at rest.
+    Run {
+        model: "butterworth",
+        fmi_type: "ModelExchange",
+        stop_time: 10.0,
+        interval: 1e-2,
+        rtol: Some(1e-10),
+        start_values: &[("voltage", 3.0)],
+    },
+    Run {
+        model: "butterworth",
+        fmi_type: "CoSimulation",
+        stop_time: 10.0,
+        interval: 1e-2,
+        rtol: None,
+        start_values: &[("voltage", 3.0)],
+    },
 ];
+
+/// The load voltage of the catalogue's Butterworth filter (`H(s) = 1 / (2 (s + 1)(s² +
+/// s + 1))`, see `models::butterworth`) at rest until a step of the source voltage to
+/// `v` at `t = 0`: the inverse Laplace transform of `H(s) v / s`, by partial fractions
+/// `1/s − 1/(s + 1) − 1/(s² + s + 1)`.
+fn butterworth_step(v: f64, t: f64) -> f64 {
+    let w = 0.75f64.sqrt();
+    0.5 * v * (1.0 - (-t).exp() - (-0.5 * t).exp() * (w * t).sin() / w)
+}
 
 /// The names FMPy records: every state and every output.
 fn recorded(description: &ModelDescription) -> Vec<String> {
@@ -407,6 +438,26 @@ fn compare<M: Exportable>(
             ));
         }
     }
+    if run.model == "butterworth" {
+        let v = run.start_values[0].1;
+        let tolerance = if run.fmi_type == "CoSimulation" { 1e-4 } else { 1e-6 };
+        let dev = times
+            .iter()
+            .zip(column("load_voltage"))
+            .map(|(&t, y)| (y - butterworth_step(v, t)).abs())
+            .fold(0.0, f64::max)
+            / (0.5 * v);
+        let line = format!(
+            "butterworth {} vs the closed-form step response: {dev:.2e} of the final value; \
+             tolerance {tolerance:.0e}",
+            run.fmi_type
+        );
+        eprintln!("{line}");
+        if dev.is_nan() || dev > tolerance {
+            failures.push(line.clone());
+        }
+        report.push(line);
+    }
     // The tuned parameters took effect: the results are far from the defaults'.
     let default_run = Run {
         start_values: &[],
@@ -487,7 +538,13 @@ fn fmpy_validates_and_simulates_the_fmus_like_the_project_does() {
     let dir =
         PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("fmpy-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let fmus: Vec<(&str, PathBuf)> = ["oscillator", "dc_motor", "dc_servo", "quick_return"]
+    let fmus: Vec<(&str, PathBuf)> = [
+        "oscillator",
+        "dc_motor",
+        "dc_servo",
+        "quick_return",
+        "butterworth",
+    ]
         .into_iter()
         .map(|model| {
             let path = bgdsl_fmi::write_fmu(model, &library, &dir).unwrap();
@@ -522,6 +579,7 @@ fn fmpy_validates_and_simulates_the_fmus_like_the_project_does() {
             "dc_motor" => compare::<DcMotor>(run, &dir, &mut report, &mut failures),
             "dc_servo" => compare::<DcServo>(run, &dir, &mut report, &mut failures),
             "quick_return" => compare::<QuickReturn>(run, &dir, &mut report, &mut failures),
+            "butterworth" => compare::<Butterworth>(run, &dir, &mut report, &mut failures),
             other => unreachable!("no comparison for {other}"),
         }
     }
