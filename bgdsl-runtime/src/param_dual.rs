@@ -32,11 +32,23 @@ use std::cell::RefCell;
 use crate::dual::DualN;
 use crate::scalar::Scalar;
 
-/// Which parameter and input indices are seeded, in lane order: parameters first.
-#[derive(Clone, Default)]
+/// The seeded parameter and input indices of every active [`with_seeds`] call, one frame
+/// after the other in one buffer (each frame: its parameters, then its inputs), and
+/// where the innermost frame starts. Frames are pushed and truncated, so that once the
+/// buffer has grown to the largest seeding, seeding allocates nothing (the partials'
+/// hot loops seed once per evaluation).
+#[derive(Default)]
 struct Seeds {
-    parameters: Vec<usize>,
-    inputs: Vec<usize>,
+    stack: Vec<usize>,
+    frame: Frame,
+}
+
+/// Where the innermost seeding lies in [`Seeds::stack`].
+#[derive(Clone, Copy, Default)]
+struct Frame {
+    start: usize,
+    parameters: usize,
+    inputs: usize,
 }
 
 thread_local! {
@@ -48,21 +60,33 @@ thread_local! {
 /// and [`Scalar::input`] on this thread; restores the previous seeding afterwards
 /// (also when `f` panics). Indices are those of
 /// [`Model::parameter_values`](crate::Model::parameter_values) and
-/// [`WithInputs::INPUTS`](crate::WithInputs::INPUTS).
+/// [`WithInputs::INPUTS`](crate::WithInputs::INPUTS). Allocates only when the seeding
+/// is larger than any before it on this thread.
 pub fn with_seeds<R>(parameters: &[usize], inputs: &[usize], f: impl FnOnce() -> R) -> R {
-    struct Restore(Option<Seeds>);
+    struct Restore(Frame);
     impl Drop for Restore {
         fn drop(&mut self) {
-            if let Some(previous) = self.0.take() {
-                SEEDS.with(|seeds| *seeds.borrow_mut() = previous);
-            }
+            SEEDS.with(|seeds| {
+                let mut seeds = seeds.borrow_mut();
+                let start = seeds.frame.start;
+                seeds.stack.truncate(start);
+                seeds.frame = self.0;
+            });
         }
     }
-    let next = Seeds {
-        parameters: parameters.to_vec(),
-        inputs: inputs.to_vec(),
-    };
-    let _restore = Restore(Some(SEEDS.with(|seeds| seeds.replace(next))));
+    let previous = SEEDS.with(|seeds| {
+        let mut seeds = seeds.borrow_mut();
+        let start = seeds.stack.len();
+        seeds.stack.extend_from_slice(parameters);
+        seeds.stack.extend_from_slice(inputs);
+        let frame = Frame {
+            start,
+            parameters: parameters.len(),
+            inputs: inputs.len(),
+        };
+        core::mem::replace(&mut seeds.frame, frame)
+    });
+    let _restore = Restore(previous);
     f()
 }
 
@@ -70,11 +94,17 @@ pub fn with_seeds<R>(parameters: &[usize], inputs: &[usize], f: impl FnOnce() ->
 fn lane(index: usize, inputs: bool) -> Option<usize> {
     SEEDS.with(|seeds| {
         let seeds = seeds.borrow();
+        let Frame {
+            start,
+            parameters,
+            inputs: n_inputs,
+        } = seeds.frame;
+        let seeded = &seeds.stack[start..start + parameters + n_inputs];
+        let (params, ins) = seeded.split_at(parameters);
         if inputs {
-            let at = seeds.inputs.iter().position(|&i| i == index)?;
-            Some(seeds.parameters.len() + at)
+            Some(parameters + ins.iter().position(|&i| i == index)?)
         } else {
-            seeds.parameters.iter().position(|&i| i == index)
+            params.iter().position(|&i| i == index)
         }
     })
 }
@@ -242,6 +272,26 @@ mod should {
         assert_eq!(p2.tangents(), &[1.0, 0.0, 0.0]);
         // Outside `with_seeds`, nothing is seeded.
         assert_eq!(ParamDual::<3>::parameter(1.0, 0).tangents(), &[0.0; 3]);
+    }
+
+    #[test]
+    fn restore_the_outer_seeding_after_a_nested_one_and_after_a_panic() {
+        let lane_of = |p| ParamDual::<2>::parameter(1.0, p).tangents()[0];
+        with_seeds(&[3], &[], || {
+            with_seeds(&[5, 6], &[3], || {
+                assert_eq!(lane_of(5), 1.0);
+                assert_eq!(lane_of(3), 0.0);
+                assert_eq!(ParamDual::<3>::input(1.0, 3).tangents(), &[0.0, 0.0, 1.0]);
+            });
+            assert_eq!(lane_of(3), 1.0);
+            assert_eq!(lane_of(5), 0.0);
+            let caught = std::panic::catch_unwind(|| with_seeds(&[5], &[], || panic!("inside")));
+            assert!(caught.is_err());
+            assert_eq!(lane_of(3), 1.0);
+            assert_eq!(lane_of(5), 0.0);
+        });
+        assert_eq!(lane_of(3), 0.0);
+        SEEDS.with(|seeds| assert!(seeds.borrow().stack.is_empty()));
     }
 
     #[test]
