@@ -134,98 +134,335 @@ pub fn state_partials<M: Model>(model: &M, t: f64, x: &[f64]) -> Result<Partials
     })
 }
 
-/// Which kind of variable [`seeded_partials`] differentiates in.
+/// Which kind of variable the seeded and central partials differentiate in.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Kind {
     Parameters,
     Inputs,
 }
 
-/// ∂f/∂v and ∂g/∂v for the parameters or inputs `which`, by [`ParamDual`] evaluations.
-fn seeded_partials<M: Model>(
-    model: &M,
-    t: f64,
-    x: &[f64],
-    which: &[usize],
-    kind: Kind,
-) -> Partials {
-    let (n, m) = (M::N_STATES, M::N_OUTPUTS);
-    let mut df = DMatrix::zeros(n, which.len());
-    let mut dg = DMatrix::zeros(m, which.len());
-    let xs: Vec<ParamDual<LANES>> = x.iter().map(|&v| ParamDual::from_f64(v)).collect();
-    let mut dx = vec![ParamDual::<LANES>::default(); n];
-    let mut y = vec![ParamDual::<LANES>::default(); m];
-    for (c, chunk) in which.chunks(LANES).enumerate() {
-        let (params, inputs): (&[usize], &[usize]) = match kind {
-            Kind::Parameters => (chunk, &[]),
-            Kind::Inputs => (&[], chunk),
-        };
-        with_seeds(params, inputs, || {
-            model.derivatives(t, &xs, &mut dx);
-            model.outputs(t, &xs, &mut y);
-        });
-        for k in 0..chunk.len() {
-            let col = c * LANES + k;
-            for (i, v) in dx.iter().enumerate() {
-                df[(i, col)] = v.tangents()[k];
-            }
-            for (i, v) in y.iter().enumerate() {
-                dg[(i, col)] = v.tangents()[k];
-            }
-        }
+/// Which of `f` and `g` to differentiate.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Parts {
+    Both,
+    /// `∂f/∂v` only (`dg` is left as it was): what a sensitivity integrator wants.
+    Rhs,
+    /// `∂g/∂v` only (`df` is left as it was).
+    Outputs,
+}
+
+impl Parts {
+    fn rhs(self) -> bool {
+        self != Parts::Outputs
     }
-    Partials {
-        df,
-        dg,
-        method: Method::Exact,
+    fn outputs(self) -> bool {
+        self != Parts::Rhs
     }
 }
 
-/// Central differences of `f` and `g` along the values `which` of a vector that
-/// `get`/`set` read and write on a copy of `model`.
-fn central_partials<M: Model + Clone>(
-    model: &M,
-    t: f64,
-    x: &[f64],
-    which: &[usize],
-    get: impl Fn(&M) -> Vec<f64>,
-    set: impl Fn(&mut M, &[f64]),
-) -> Partials {
-    let (n, m) = (M::N_STATES, M::N_OUTPUTS);
-    let mut df = DMatrix::zeros(n, which.len());
-    let mut dg = DMatrix::zeros(m, which.len());
-    let mut copy = model.clone();
-    let base = get(model);
-    let (mut f_plus, mut f_minus) = (vec![0.0; n], vec![0.0; n]);
-    let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
-    for (col, &i) in which.iter().enumerate() {
-        let h = 6e-6 * if base[i] == 0.0 { 1.0 } else { base[i].abs() };
-        let mut values = base.clone();
-        values[i] = base[i] + h;
-        set(&mut copy, &values);
-        copy.derivatives(t, x, &mut f_plus);
-        copy.outputs(t, x, &mut g_plus);
-        values[i] = base[i] - h;
-        set(&mut copy, &values);
-        copy.derivatives(t, x, &mut f_minus);
-        copy.outputs(t, x, &mut g_minus);
-        for (r, (plus, minus)) in f_plus.iter().zip(&f_minus).enumerate() {
-            df[(r, col)] = (plus - minus) / (2.0 * h);
-        }
-        for (r, (plus, minus)) in g_plus.iter().zip(&g_minus).enumerate() {
-            dg[(r, col)] = (plus - minus) / (2.0 * h);
+/// Buffers for the central differences of a model that keeps no parameter tangents:
+/// a copy of the model to move, the base and moved values, `f` and `g` on both sides.
+struct Central<M> {
+    copy: M,
+    base: Vec<f64>,
+    values: Vec<f64>,
+    f_plus: Vec<f64>,
+    f_minus: Vec<f64>,
+    g_plus: Vec<f64>,
+    g_minus: Vec<f64>,
+}
+
+/// The buffers of repeated parameter or input partials of one model type, prepared once
+/// and reused, so that a hot loop (the variational equations' SDIRK stages, a fit's
+/// iterations) does not allocate: [`PartialsWorkspace::parameter_partials`] and
+/// [`PartialsWorkspace::input_partials`] allocate nothing after the first call with a
+/// given number of columns, for a model with exact parameter derivatives
+/// ([`Model::EXACT_PARAMETER_DERIVATIVES`]; `tests/partials_alloc_free.rs` counts).
+/// A model differentiated by central differences is copied into the workspace on every
+/// call (`Clone::clone_from`), which allocates if the model holds heap data.
+///
+/// ```
+/// use bgdsl_analysis::partials::PartialsWorkspace;
+/// use bgdsl_runtime::Model;
+/// use models::Oscillator;
+///
+/// let model = Oscillator::default();
+/// let mut x = vec![0.0; Oscillator::N_STATES];
+/// model.initial_state(&mut x);
+/// let mut work = PartialsWorkspace::new(&model);
+/// for step in 0..3 {
+///     x[0] += 0.01 * step as f64;
+///     let partials = work.parameter_partials(&model, 0.0, &x, &[0, 1])?;
+///     assert_eq!(partials.df.shape(), (Oscillator::N_STATES, 2));
+/// }
+/// # Ok::<(), bgdsl_analysis::AnalysisError>(())
+/// ```
+pub struct PartialsWorkspace<M> {
+    xs: Vec<ParamDual<LANES>>,
+    dx: Vec<ParamDual<LANES>>,
+    y: Vec<ParamDual<LANES>>,
+    central: Option<Central<M>>,
+    partials: Partials,
+}
+
+impl<M: Model + Clone> PartialsWorkspace<M> {
+    /// The buffers for partials of models of `model`'s type (`model` is copied only
+    /// when it keeps no parameter tangents, for its central differences).
+    pub fn new(model: &M) -> Self {
+        let (n, m) = (M::N_STATES, M::N_OUTPUTS);
+        let exact = M::EXACT_PARAMETER_DERIVATIVES;
+        PartialsWorkspace {
+            xs: vec![ParamDual::default(); n],
+            dx: vec![ParamDual::default(); n],
+            y: vec![ParamDual::default(); m],
+            central: (!exact).then(|| Central {
+                copy: model.clone(),
+                base: Vec::new(),
+                values: Vec::new(),
+                f_plus: vec![0.0; n],
+                f_minus: vec![0.0; n],
+                g_plus: vec![0.0; m],
+                g_minus: vec![0.0; m],
+            }),
+            partials: Partials {
+                df: DMatrix::zeros(n, 0),
+                dg: DMatrix::zeros(m, 0),
+                method: if exact {
+                    Method::Exact
+                } else {
+                    Method::CentralDifferences
+                },
+            },
         }
     }
-    Partials {
-        df,
-        dg,
-        method: Method::CentralDifferences,
+
+    /// As [`parameter_partials`](fn@parameter_partials), into this workspace's buffers:
+    /// the result lives until the next call.
+    ///
+    /// # Errors
+    /// As [`parameter_partials`](fn@parameter_partials).
+    pub fn parameter_partials(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+    ) -> Result<&Partials, AnalysisError> {
+        self.parameters(model, t, x, which, Parts::Both)?;
+        Ok(&self.partials)
+    }
+
+    /// ∂f/∂p alone (`dg` of the result is stale): for the variational equations and
+    /// [`parameter_jacobian`].
+    pub(crate) fn parameter_rhs_partials(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+    ) -> Result<&DMatrix<f64>, AnalysisError> {
+        self.parameters(model, t, x, which, Parts::Rhs)?;
+        Ok(&self.partials.df)
+    }
+
+    /// ∂g/∂p alone (`df` of the result is stale).
+    pub(crate) fn parameter_output_partials(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+    ) -> Result<&DMatrix<f64>, AnalysisError> {
+        self.parameters(model, t, x, which, Parts::Outputs)?;
+        Ok(&self.partials.dg)
+    }
+
+    fn parameters(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+        parts: Parts,
+    ) -> Result<(), AnalysisError> {
+        check_state::<M>(x)?;
+        check_indices(which, M::N_PARAMETER_VALUES, "parameter index")?;
+        self.shape(which.len());
+        if M::EXACT_PARAMETER_DERIVATIVES {
+            self.seeded(model, t, x, which, Kind::Parameters, parts);
+        } else {
+            self.central(
+                model,
+                t,
+                x,
+                which,
+                parts,
+                |model, values| {
+                    values.resize(M::N_PARAMETER_VALUES, 0.0);
+                    model.parameter_values(values);
+                },
+                |model, values| model.set_parameter_values(values),
+            );
+        }
+        self.check(parts, "parameter derivatives")
+    }
+
+    /// `df` and `dg` with `k` columns (allocates only when `k` changes).
+    fn shape(&mut self, k: usize) {
+        let (n, m) = (M::N_STATES, M::N_OUTPUTS);
+        if self.partials.df.ncols() != k {
+            self.partials.df = DMatrix::zeros(n, k);
+            self.partials.dg = DMatrix::zeros(m, k);
+        }
+    }
+
+    fn check(&self, parts: Parts, what: &'static str) -> Result<(), AnalysisError> {
+        if parts.rhs() {
+            check_finite(self.partials.df.iter().copied(), &[], what)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// ∂f/∂v and/or ∂g/∂v for the parameters or inputs `which`, by [`ParamDual`]
+    /// evaluations, [`LANES`] at a time.
+    fn seeded(&mut self, model: &M, t: f64, x: &[f64], which: &[usize], kind: Kind, parts: Parts) {
+        for (xj, &v) in self.xs.iter_mut().zip(x) {
+            *xj = ParamDual::from_f64(v);
+        }
+        let (xs, dx, y) = (&self.xs, &mut self.dx, &mut self.y);
+        let Partials { df, dg, .. } = &mut self.partials;
+        for (c, chunk) in which.chunks(LANES).enumerate() {
+            let (params, inputs): (&[usize], &[usize]) = match kind {
+                Kind::Parameters => (chunk, &[]),
+                Kind::Inputs => (&[], chunk),
+            };
+            with_seeds(params, inputs, || {
+                if parts.rhs() {
+                    model.derivatives(t, xs, dx);
+                }
+                if parts.outputs() {
+                    model.outputs(t, xs, y);
+                }
+            });
+            for k in 0..chunk.len() {
+                let col = c * LANES + k;
+                if parts.rhs() {
+                    for (i, v) in dx.iter().enumerate() {
+                        df[(i, col)] = v.tangents()[k];
+                    }
+                }
+                if parts.outputs() {
+                    for (i, v) in y.iter().enumerate() {
+                        dg[(i, col)] = v.tangents()[k];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Central differences of `f` and/or `g` along the values `which` of a vector that
+    /// `get`/`set` read and write, on the workspace's copy of `model`.
+    #[allow(clippy::too_many_arguments)]
+    fn central(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+        parts: Parts,
+        get: impl Fn(&M, &mut Vec<f64>),
+        set: impl Fn(&mut M, &[f64]),
+    ) {
+        let c = self
+            .central
+            .as_mut()
+            .expect("a workspace for a model without parameter tangents has its copy");
+        let Partials { df, dg, .. } = &mut self.partials;
+        c.copy.clone_from(model);
+        get(model, &mut c.base);
+        c.values.clone_from(&c.base);
+        for (col, &i) in which.iter().enumerate() {
+            let base = c.base[i];
+            let h = 6e-6 * if base == 0.0 { 1.0 } else { base.abs() };
+            c.values[i] = base + h;
+            set(&mut c.copy, &c.values);
+            if parts.rhs() {
+                c.copy.derivatives(t, x, &mut c.f_plus);
+            }
+            if parts.outputs() {
+                c.copy.outputs(t, x, &mut c.g_plus);
+            }
+            c.values[i] = base - h;
+            set(&mut c.copy, &c.values);
+            if parts.rhs() {
+                c.copy.derivatives(t, x, &mut c.f_minus);
+            }
+            if parts.outputs() {
+                c.copy.outputs(t, x, &mut c.g_minus);
+            }
+            c.values[i] = base;
+            if parts.rhs() {
+                for (r, (plus, minus)) in c.f_plus.iter().zip(&c.f_minus).enumerate() {
+                    df[(r, col)] = (plus - minus) / (2.0 * h);
+                }
+            }
+            if parts.outputs() {
+                for (r, (plus, minus)) in c.g_plus.iter().zip(&c.g_minus).enumerate() {
+                    dg[(r, col)] = (plus - minus) / (2.0 * h);
+                }
+            }
+        }
+        set(&mut c.copy, &c.base);
+    }
+
+    /// The result of the last call, moved out.
+    fn into_partials(self) -> Partials {
+        self.partials
+    }
+}
+
+impl<M: WithInputs + Clone> PartialsWorkspace<M> {
+    /// As [`input_partials`](fn@input_partials), into this workspace's buffers: the
+    /// result lives until the next call.
+    ///
+    /// # Errors
+    /// As [`input_partials`](fn@input_partials).
+    pub fn input_partials(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        which: &[usize],
+    ) -> Result<&Partials, AnalysisError> {
+        check_state::<M>(x)?;
+        check_indices(which, M::INPUTS.len(), "input index")?;
+        self.shape(which.len());
+        if M::EXACT_PARAMETER_DERIVATIVES {
+            self.seeded(model, t, x, which, Kind::Inputs, Parts::Both);
+        } else {
+            self.central(
+                model,
+                t,
+                x,
+                which,
+                Parts::Both,
+                |model, values| {
+                    values.resize(M::INPUTS.len(), 0.0);
+                    model.input_values(values);
+                },
+                |model, values| model.set_input_values(values),
+            );
+        }
+        self.check(Parts::Both, "input derivatives")?;
+        Ok(&self.partials)
     }
 }
 
 /// ∂f/∂p and ∂g/∂p of `model` at `(t, x)` for the parameters `which` (indices into
 /// [`Model::parameter_values`]), one column each: exact when the model keeps parameter
-/// tangents ([`Model::EXACT_PARAMETER_DERIVATIVES`]), else central differences.
+/// tangents ([`Model::EXACT_PARAMETER_DERIVATIVES`]), else central differences. In a
+/// loop, [`PartialsWorkspace::parameter_partials`] does the same without allocating.
 ///
 /// # Errors
 /// A state vector of the wrong length or an index out of range; non-finite results.
@@ -235,31 +472,15 @@ pub fn parameter_partials<M: Model + Clone>(
     x: &[f64],
     which: &[usize],
 ) -> Result<Partials, AnalysisError> {
-    check_state::<M>(x)?;
-    check_indices(which, M::N_PARAMETER_VALUES, "parameter index")?;
-    let partials = if M::EXACT_PARAMETER_DERIVATIVES {
-        seeded_partials(model, t, x, which, Kind::Parameters)
-    } else {
-        central_partials(
-            model,
-            t,
-            x,
-            which,
-            |model| {
-                let mut values = vec![0.0; M::N_PARAMETER_VALUES];
-                model.parameter_values(&mut values);
-                values
-            },
-            |model, values| model.set_parameter_values(values),
-        )
-    };
-    check_finite(partials.df.iter().copied(), &[], "parameter derivatives")?;
-    Ok(partials)
+    let mut work = PartialsWorkspace::new(model);
+    work.parameter_partials(model, t, x, which)?;
+    Ok(work.into_partials())
 }
 
 /// ∂f/∂u and ∂g/∂u of `model` at `(t, x)` and its current inputs, for the inputs
 /// `which` (indices into [`WithInputs::INPUTS`]), one column each; exact or by central
-/// differences as [`parameter_partials`].
+/// differences as [`parameter_partials`]. In a loop,
+/// [`PartialsWorkspace::input_partials`] does the same without allocating.
 ///
 /// # Errors
 /// A state vector of the wrong length or an index out of range; non-finite results.
@@ -269,26 +490,9 @@ pub fn input_partials<M: WithInputs + Clone>(
     x: &[f64],
     which: &[usize],
 ) -> Result<Partials, AnalysisError> {
-    check_state::<M>(x)?;
-    check_indices(which, M::INPUTS.len(), "input index")?;
-    let partials = if M::EXACT_PARAMETER_DERIVATIVES {
-        seeded_partials(model, t, x, which, Kind::Inputs)
-    } else {
-        central_partials(
-            model,
-            t,
-            x,
-            which,
-            |model| {
-                let mut values = vec![0.0; M::INPUTS.len()];
-                model.input_values(&mut values);
-                values
-            },
-            |model, values| model.set_input_values(values),
-        )
-    };
-    check_finite(partials.df.iter().copied(), &[], "input derivatives")?;
-    Ok(partials)
+    let mut work = PartialsWorkspace::new(model);
+    work.input_partials(model, t, x, which)?;
+    Ok(work.into_partials())
 }
 
 /// ∂f/∂p for the parameters `which` written into `out` column by column
@@ -304,6 +508,22 @@ pub fn parameter_jacobian<M: Model + Clone>(
     which: &[usize],
     out: &mut [f64],
 ) -> Result<Method, AnalysisError> {
+    parameter_jacobian_in(&mut PartialsWorkspace::new(model), model, t, x, which, out)
+}
+
+/// [`parameter_jacobian`] in a [`PartialsWorkspace`]: no allocation after set-up
+/// (only ∂f/∂p is evaluated, not ∂g/∂p).
+///
+/// # Errors
+/// As [`parameter_jacobian`].
+pub fn parameter_jacobian_in<M: Model + Clone>(
+    work: &mut PartialsWorkspace<M>,
+    model: &M,
+    t: f64,
+    x: &[f64],
+    which: &[usize],
+    out: &mut [f64],
+) -> Result<Method, AnalysisError> {
     if out.len() != M::N_STATES * which.len() {
         return Err(AnalysisError::Dimension {
             what: "output slice",
@@ -311,7 +531,7 @@ pub fn parameter_jacobian<M: Model + Clone>(
             found: out.len(),
         });
     }
-    let partials = parameter_partials(model, t, x, which)?;
-    out.copy_from_slice(partials.df.as_slice());
-    Ok(partials.method)
+    let method = work.partials.method;
+    out.copy_from_slice(work.parameter_rhs_partials(model, t, x, which)?.as_slice());
+    Ok(method)
 }

@@ -1,7 +1,8 @@
 //! The derivatives of a model's right-hand side, outputs and initial state with respect
 //! to chosen parameter values: `∂f/∂p`, `∂g/∂p`, `∂x₀/∂p`.
 //!
-//! `∂f/∂p` and `∂g/∂p` are exact (dual numbers, [`crate::partials::parameter_partials`])
+//! `∂f/∂p` and `∂g/∂p` are exact (dual numbers, [`crate::partials::PartialsWorkspace`],
+//! allocation-free once set up)
 //! for a model that keeps parameter tangents (`Model::EXACT_PARAMETER_DERIVATIVES`: every
 //! generated model whose parameter expressions are generic); otherwise, and always for
 //! `∂x₀/∂p` (the initial state is computed in `f64` only), by central differences on
@@ -14,7 +15,7 @@ use bgdsl_runtime::{FromParams, Model};
 use nalgebra::DMatrix;
 
 use crate::error::AnalysisError;
-use crate::partials::parameter_partials;
+use crate::partials::PartialsWorkspace;
 
 /// The index among a model's parameter values ([`Model::parameter_values`]) of the
 /// parameter named `name` (a scalar), or of `name[k]` (component `k` of a vector or
@@ -54,11 +55,18 @@ pub fn parameter_name<M: Model>(index: usize) -> Option<String> {
     None
 }
 
+/// What exact `∂f/∂p` and `∂g/∂p` need: the model, the indices, the buffers.
+struct Exact<M> {
+    model: M,
+    which: Vec<usize>,
+    work: PartialsWorkspace<M>,
+}
+
 /// `∂f/∂p`, `∂g/∂p` and `∂x₀/∂p` for the parameter values `which` of a model.
 pub struct ParameterDerivatives<M> {
-    /// The model itself and the indices, for exact derivatives (`None`: central
-    /// differences).
-    exact: Option<(M, Vec<usize>)>,
+    /// The model itself, the indices and the partials' buffers, for exact derivatives
+    /// (`None`: central differences).
+    exact: Option<Exact<M>>,
     /// The model moved up and down in each parameter, in the order of `which`.
     plus: Vec<M>,
     minus: Vec<M>,
@@ -97,7 +105,11 @@ impl<M: Model + FromParams + Clone> ParameterDerivatives<M> {
             width.push(2.0 * h);
         }
         Ok(ParameterDerivatives {
-            exact: M::EXACT_PARAMETER_DERIVATIVES.then(|| (model.clone(), which.to_vec())),
+            exact: M::EXACT_PARAMETER_DERIVATIVES.then(|| Exact {
+                model: model.clone(),
+                which: which.to_vec(),
+                work: PartialsWorkspace::new(model),
+            }),
             plus,
             minus,
             width,
@@ -115,12 +127,17 @@ impl<M: Model + FromParams + Clone> ParameterDerivatives<M> {
     /// The exact `∂f/∂p` (`rhs`) or `∂g/∂p` into `out`; NaN where the evaluation
     /// failed (the integration then reports a non-finite value). `false` when the model
     /// keeps no parameter tangents.
-    fn exact_into(&self, t: f64, x: &[f64], out: &mut DMatrix<f64>, rhs: bool) -> bool {
-        let Some((model, which)) = &self.exact else {
+    fn exact_into(&mut self, t: f64, x: &[f64], out: &mut DMatrix<f64>, rhs: bool) -> bool {
+        let Some(Exact { model, which, work }) = &mut self.exact else {
             return false;
         };
-        match parameter_partials(model, t, x, which) {
-            Ok(p) => out.copy_from(if rhs { &p.df } else { &p.dg }),
+        let partials = if rhs {
+            work.parameter_rhs_partials(model, t, x, which)
+        } else {
+            work.parameter_output_partials(model, t, x, which)
+        };
+        match partials {
+            Ok(p) => out.copy_from(p),
             Err(_) => out.fill(f64::NAN),
         }
         true
