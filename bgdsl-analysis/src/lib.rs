@@ -36,7 +36,7 @@ pub use error::AnalysisError;
 pub use linear::{linearize, Channel, LinearModel};
 pub use modes::{modes, Mode};
 pub use partials::{
-    input_partials, parameter_jacobian, parameter_jacobian_in, parameter_partials,
-    state_partials, Method, Partials, PartialsWorkspace,
+    input_partials, parameter_jacobian, parameter_jacobian_in, parameter_partials, state_partials,
+    Method, Partials, PartialsWorkspace,
 };
 pub use steady::{equilibrium, Equilibrium, SteadyOptions};

@@ -53,7 +53,7 @@ fn states<M: Model + Default>(count: usize) -> Vec<Vec<f64>> {
 
 #[test]
 fn parameter_partials_allocate_nothing_after_set_up() {
-    assert!(QuickReturn::EXACT_PARAMETER_DERIVATIVES);
+    const { assert!(QuickReturn::EXACT_PARAMETER_DERIVATIVES) };
     let model = QuickReturn::default();
     let which = flagship_parameters();
     assert!(which.len() > LANES);
@@ -61,7 +61,8 @@ fn parameter_partials_allocate_nothing_after_set_up() {
     let mut work = PartialsWorkspace::new(&model);
     let mut df = DMatrix::zeros(QuickReturn::N_STATES, which.len());
     let mut dg = DMatrix::zeros(QuickReturn::N_OUTPUTS, which.len());
-    work.parameter_partials(&model, 0.0, &xs[0], &which).unwrap();
+    work.parameter_partials(&model, 0.0, &xs[0], &which)
+        .unwrap();
     for (k, x) in xs.iter().enumerate() {
         let t = 0.1 * k as f64;
         let n = allocations_in(|| {
@@ -72,7 +73,8 @@ fn parameter_partials_allocate_nothing_after_set_up() {
         .0;
         assert_eq!(n, 0, "allocations in parameter_partials at state {k}");
         // The counter counts in this binary: the allocating function is seen to allocate.
-        let (fresh_allocations, fresh) = allocations_in(|| parameter_partials(&model, t, x, &which));
+        let (fresh_allocations, fresh) =
+            allocations_in(|| parameter_partials(&model, t, x, &which));
         let fresh = fresh.unwrap();
         assert!(fresh_allocations > 0);
         assert_eq!(df, fresh.df, "∂f/∂p at state {k}");
@@ -105,7 +107,7 @@ fn parameter_jacobian_allocates_nothing_after_set_up() {
 
 #[test]
 fn input_partials_allocate_nothing_after_set_up() {
-    assert!(DcServo::EXACT_PARAMETER_DERIVATIVES);
+    const { assert!(DcServo::EXACT_PARAMETER_DERIVATIVES) };
     let model = DcServo::default();
     let which: Vec<usize> = (0..DcServo::INPUTS.len()).collect();
     assert!(!which.is_empty());

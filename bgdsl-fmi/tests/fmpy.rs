@@ -440,7 +440,11 @@ fn compare<M: Exportable>(
     }
     if run.model == "butterworth" {
         let v = run.start_values[0].1;
-        let tolerance = if run.fmi_type == "CoSimulation" { 1e-4 } else { 1e-6 };
+        let tolerance = if run.fmi_type == "CoSimulation" {
+            1e-4
+        } else {
+            1e-6
+        };
         let dev = times
             .iter()
             .zip(column("load_voltage"))
@@ -545,12 +549,12 @@ fn fmpy_validates_and_simulates_the_fmus_like_the_project_does() {
         "quick_return",
         "butterworth",
     ]
-        .into_iter()
-        .map(|model| {
-            let path = bgdsl_fmi::write_fmu(model, &library, &dir).unwrap();
-            (model, path)
-        })
-        .collect();
+    .into_iter()
+    .map(|model| {
+        let path = bgdsl_fmi::write_fmu(model, &library, &dir).unwrap();
+        (model, path)
+    })
+    .collect();
     let config_path = dir.join("config.json");
     std::fs::write(&config_path, config(&dir, &fmus)).unwrap();
 
