@@ -41,7 +41,7 @@
 //! cargo bench -p bgdsl-analysis --bench analysis
 //! ```
 //!
-//! (about four minutes on two cores; `ANALYSIS_TABLE_ONLY=1` prints the periodic
+//! (about five minutes on two shared cores, two and a half of CPU; `ANALYSIS_TABLE_ONLY=1` prints the periodic
 //! orbit's table alone, `ANALYSIS_SKIP_TABLE=1` skips it). The ratios are in
 //! `docs/analysis.md`, "Speed".
 
