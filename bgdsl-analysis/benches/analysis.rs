@@ -41,9 +41,9 @@
 //! cargo bench -p bgdsl-analysis --bench analysis
 //! ```
 //!
-//! (about five minutes on two shared cores, two and a half of CPU; `ANALYSIS_TABLE_ONLY=1` prints the periodic
-//! orbit's table alone, `ANALYSIS_SKIP_TABLE=1` skips it). The ratios are in
-//! `docs/analysis.md`, "Speed".
+//! (about five minutes on two shared cores, two and a half of CPU;
+//! `ANALYSIS_TABLE_ONLY=1` prints the periodic orbit's table alone,
+//! `ANALYSIS_SKIP_TABLE=1` skips it). The ratios are in `docs/analysis.md`, "Speed".
 
 use std::hint::black_box;
 use std::time::Duration;
