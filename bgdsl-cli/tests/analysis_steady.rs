@@ -263,3 +263,73 @@ fn an_unknown_state_is_a_usage_error_that_lists_the_states() {
     );
     assert!(!out.exists());
 }
+
+/// A scenario file gives the parameters and the starting state as `models run` reads
+/// them (the DC motor at 6 V, its closed-form speed), the record keeps the scenario's
+/// text; a sweep is refused (one model, one analysis) with nothing written.
+#[test]
+fn a_scenario_sets_parameters_and_a_sweep_is_refused() {
+    let dir = scratch("steady-scenario");
+    let scenario = dir.join("motor.yaml");
+    fs::write(
+        &scenario,
+        "model: dc_motor\nparameters:\n  voltage: 6.0\ninitial:\n  rotor.p: 0.001\n",
+    )
+    .unwrap();
+    let out = dir.join("set");
+    run(
+        &MODELS,
+        &[
+            "steady",
+            scenario.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    )
+    .unwrap();
+    let (speed, _) = dc_motor_closed_form(&DcMotorParams {
+        voltage: 6.0,
+        ..DcMotorParams::default()
+    });
+    let file = yaml(&out.join("steady.yaml"));
+    let (found, _) = value(&file, "outputs", "motor_speed");
+    assert!(close(found, speed, 1e-12), "{found} vs {speed}");
+    let guess = file["states"]
+        .as_sequence()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"].as_str() == Some("rotor.p"))
+        .unwrap()["guess"]
+        .as_f64();
+    assert_eq!(
+        guess,
+        Some(0.001),
+        "the scenario's initial state is the guess"
+    );
+    let record = yaml(&out.join("run.yaml"));
+    assert!(record["scenario"]["text"]
+        .as_str()
+        .unwrap()
+        .contains("voltage: 6.0"));
+
+    let sweep = dir.join("sweep.yaml");
+    fs::write(
+        &sweep,
+        "model: dc_motor\nsweep:\n  parameters:\n    - name: voltage\n      values: [6, 12]\n  peaks: [current]\n",
+    )
+    .unwrap();
+    let other = dir.join("other");
+    let failure = run(
+        &MODELS,
+        &[
+            "steady",
+            sweep.to_str().unwrap(),
+            "--out",
+            other.to_str().unwrap(),
+        ],
+    )
+    .unwrap_err();
+    assert_eq!(failure.exit_code(), 2, "{failure}");
+    assert!(failure.to_string().contains("sweep"), "{failure}");
+    assert!(!other.exists());
+}

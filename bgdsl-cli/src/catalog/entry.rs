@@ -54,6 +54,9 @@ impl fmt::Debug for Entry {
 
 impl Entry {
     /// The builder of an entry for model `M`, with the defaults of [`EntryOf`].
+    ///
+    /// `M: Clone` because the analysis commands copy the model to differentiate it in
+    /// its parameters; every model `bond_graph!` generates is `Clone`.
     pub fn of<M>() -> EntryOf<M>
     where
         M: FromParams + WithInputs + Default + Clone + 'static,

@@ -184,6 +184,8 @@ fn decade_ticks(from: f64, to: f64) -> Vec<Tick> {
 
 /// The magnitude or the phase of every pair against `log₁₀ f`.
 fn figure(responses: &[FrequencyResponse], band: &Band, magnitude: bool) -> Figure {
+    let units: Vec<String> = responses.iter().map(pair_unit).collect();
+    let same_unit = units.windows(2).all(|w| w[0] == w[1]);
     let series = responses
         .iter()
         .map(|r| {
@@ -199,15 +201,14 @@ fn figure(responses: &[FrequencyResponse], band: &Band, magnitude: bool) -> Figu
                 .map(|(f, v)| (f.log10(), if v.is_finite() { v } else { f64::NAN }))
                 .collect();
             let unit = pair_unit(r);
-            let label = match (magnitude, unit.is_empty()) {
+            // The unit is in the axis label when every pair has the same one.
+            let label = match (magnitude && !same_unit, unit.is_empty()) {
                 (true, false) => format!("{} (dB re 1 {unit})", pair(r)),
                 _ => pair(r),
             };
             Series::new(label, points)
         })
         .collect();
-    let units: Vec<String> = responses.iter().map(pair_unit).collect();
-    let same_unit = units.windows(2).all(|w| w[0] == w[1]);
     let (id, title, y_label) = if magnitude {
         let y_label = match units.first() {
             Some(u) if same_unit && !u.is_empty() => format!("magnitude 20 log₁₀|H| (dB re 1 {u})"),
@@ -265,12 +266,11 @@ pub fn results_set(
     responses: &[FrequencyResponse],
 ) -> AnalysisSet {
     let mut summary = format!(
-        "model          {}: {}\noperating pt   {} (t = {} s); B and D {}\nfrequencies    {} from \
+        "model          {}: {}\noperating pt   {}; B and D {}\nfrequencies    {} from \
          {} Hz to {} Hz (log spaced)\n",
         entry.name,
         entry.description,
-        at,
-        linear.t,
+        at.describe(linear.t),
         linear.method.describe(),
         band.points,
         format_number(band.from),

@@ -110,6 +110,11 @@ pub const MODES_FILE: &str = "modes.csv";
 /// The eigenvalue-plane figure's id.
 pub const EIGENVALUE_FIGURE: &str = "eigenvalues";
 
+/// `1 state`, `2 states`.
+fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
 /// What the eigenvalues say about stability.
 fn stability(modes: &[Mode]) -> &'static str {
     let largest = modes
@@ -242,15 +247,14 @@ pub fn results_set(entry: &Entry, at: OperatingPoint, linear: &LinearModel) -> A
     files.push(DataFile::new(MODES_FILE, modes_csv(linear, &modes)));
 
     let mut summary = format!(
-        "model          {}: {}\noperating pt   {} (t = {} s)\nlinear model   {} states, {} \
-         inputs, {} outputs; A and C exact (dual numbers), B and D {}\nstability      {}\n",
+        "model          {}: {}\noperating pt   {}\nlinear model   {}, {}, {}; A and C exact (dual \
+         numbers), B and D {}\nstability      {}\n",
         entry.name,
         entry.description,
-        at,
-        linear.t,
-        linear.states.len(),
-        linear.inputs.len(),
-        linear.outputs.len(),
+        at.describe(linear.t),
+        count(linear.states.len(), "state"),
+        count(linear.inputs.len(), "input"),
+        count(linear.outputs.len(), "output"),
         linear.method.describe(),
         stability(&modes)
     );

@@ -70,6 +70,19 @@ impl FromStr for OperatingPoint {
     }
 }
 
+impl OperatingPoint {
+    /// The point for a summary, with the time it was taken at:
+    /// `the initial state (t = 0 s)`, `the equilibrium (t = 0 s)`,
+    /// `the state of a run at t = 0.5 s`.
+    pub fn describe(self, t: f64) -> String {
+        match self {
+            OperatingPoint::Initial => format!("the initial state (t = {t} s)"),
+            OperatingPoint::Steady => format!("the equilibrium (f evaluated at t = {t} s)"),
+            OperatingPoint::Time(_) => format!("the state of a run at t = {t} s"),
+        }
+    }
+}
+
 impl fmt::Display for OperatingPoint {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -15,7 +15,7 @@ pub struct SteadyArgs {
     #[command(flatten)]
     pub model: ModelArgs,
     /// Start Newton's method with this state at this value instead of its initial
-    /// value, e.g. `--guess omega=100` (repeatable).
+    /// value, e.g. `--guess load.p=0.02` (repeatable).
     #[arg(long, value_name = "STATE=VALUE")]
     pub guess: Vec<String>,
     /// Hold this state at its starting value (its own rate need not vanish): a
