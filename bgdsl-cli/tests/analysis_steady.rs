@@ -333,3 +333,45 @@ fn a_scenario_sets_parameters_and_a_sweep_is_refused() {
     assert!(failure.to_string().contains("sweep"), "{failure}");
     assert!(!other.exists());
 }
+
+/// A folder the program did not write is refused before any work (status 2), its
+/// content untouched; `--no-plots` leaves the data and the page.
+#[test]
+fn a_foreign_folder_is_refused_and_no_plots_draws_nothing() {
+    let dir = scratch("steady-foreign");
+    let foreign = dir.join("mine");
+    fs::create_dir_all(&foreign).unwrap();
+    fs::write(foreign.join("notes.txt"), "keep me").unwrap();
+    let failure = run(
+        &OWN,
+        &["steady", "hanging", "--out", foreign.to_str().unwrap()],
+    )
+    .unwrap_err();
+    assert_eq!(failure.exit_code(), 2, "{failure}");
+    assert_eq!(names(&foreign), ["notes.txt"]);
+    assert_eq!(
+        fs::read_to_string(foreign.join("notes.txt")).unwrap(),
+        "keep me"
+    );
+
+    let out = dir.join("linear");
+    run(
+        &MODELS,
+        &[
+            "linearize",
+            "rlc",
+            "--no-plots",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    )
+    .unwrap();
+    let files = names(&out);
+    assert!(files.contains(&"linear.json".to_owned()), "{files:?}");
+    assert!(
+        !files
+            .iter()
+            .any(|f| f.ends_with(".png") || f.ends_with(".svg")),
+        "{files:?}"
+    );
+}

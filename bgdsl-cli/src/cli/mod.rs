@@ -140,14 +140,21 @@ pub enum Command {
     ///
     /// A singular Jacobian (a free rigid-body motion, an integrator in a loop) is an
     /// error naming the states it leaves undetermined: hold them (`--hold`) or add
-    /// what fixes them.
+    /// what fixes them. Results in out/MODEL-steady/ (see --out); a failure writes
+    /// nothing. Example: `models steady dc_motor --set voltage=24`.
     Steady(Box<analysis::steady::SteadyArgs>),
     /// The linear model dx = A dx + B du, dy = C dx + D du at an operating point,
     /// exact by dual numbers, with its modes; writes linear.json, A.csv–D.csv,
     /// linear.m, modes.csv and the eigenvalue plane.
+    ///
+    /// Inputs are declared inputs or scalar parameters. Example:
+    /// `models linearize rlc --inputs voltage --outputs current --at steady`.
     Linearize(Box<analysis::linearize::LinearizeArgs>),
     /// Frequency responses H(jω) = C (jωI − A)⁻¹ B + D from inputs to outputs at an
     /// operating point; writes bode.csv and the magnitude and phase figures.
+    ///
+    /// Frequencies in hertz. Example:
+    /// `models bode butterworth --input voltage --output load_voltage --from 0.01 --to 10`.
     Bode(Box<analysis::bode::BodeArgs>),
     /// The periodic steady state of a periodically driven model.
     Periodic(Box<analysis::periodic::PeriodicArgs>),

@@ -255,7 +255,11 @@ pub fn results_set(entry: &Entry, at: OperatingPoint, linear: &LinearModel) -> A
         count(linear.states.len(), "state"),
         count(linear.inputs.len(), "input"),
         count(linear.outputs.len(), "output"),
-        linear.method.describe(),
+        if linear.inputs.is_empty() {
+            "without columns (no inputs)"
+        } else {
+            linear.method.describe()
+        },
         stability(&modes)
     );
     if !linear.inputs.is_empty() {
