@@ -1,10 +1,11 @@
 //! The analysis commands (`steady`, `linearize`, `bode`, `periodic`, `fit`): what they
 //! share. Each reads its model the way `models run` does ([`ModelArgs`]: a model or a
 //! scenario file, `--set`, the solver flags), resolved once by [`plan`] into the run's
-//! plan, then calls its analysis through [`CatalogModel`](crate::catalog::CatalogModel)
-//! and writes its results set with
-//! [`catalog::analysis::write_set`](crate::catalog::analysis::write_set), whose summary
-//! [`finish`] prints.
+//! plan; [`execute`] then begins the results folder, runs the analysis (through
+//! [`CatalogModel`](crate::catalog::CatalogModel)), writes its set with
+//! [`catalog::analysis::write_set`](crate::catalog::analysis::write_set) and prints the
+//! summary. A new command (h3's `periodic`, `fit`) adds its args struct, a method on
+//! `CatalogModel` and one call of [`plan`] and [`execute`].
 
 pub mod bode;
 pub mod fit;
