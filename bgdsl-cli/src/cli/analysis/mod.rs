@@ -4,7 +4,7 @@
 //! plan; [`execute`] then begins the results folder, runs the analysis (through
 //! [`CatalogModel`](crate::catalog::CatalogModel)), writes its set with
 //! [`catalog::analysis::write_set`](crate::catalog::analysis::write_set) and prints the
-//! summary. A new command (h3's `periodic`, `fit`) adds its args struct, a method on
+//! summary. A new analysis command adds its arguments struct, a method on
 //! `CatalogModel` and one call of [`plan`] and [`execute`].
 
 pub mod bode;
