@@ -129,6 +129,7 @@
 
 mod adapter;
 mod addons;
+pub mod analysis;
 mod checks;
 mod columns;
 mod entry;
@@ -238,6 +239,31 @@ pub trait CatalogModel: Send + Sync {
         columns: &[Column],
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError>;
+    /// The equilibrium of the model with `plan`'s parameters, from its initial state
+    /// (with `request`'s guess) at its start time (`models steady`; see
+    /// [`analysis::steady`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): a singular Jacobian naming the
+    /// states, no convergence.
+    fn steady(
+        &self,
+        plan: &RunPlan,
+        request: &analysis::steady::SteadyRequest,
+    ) -> Result<analysis::steady::SteadyResult, analysis::AnalysisFailure>;
+    /// The linear model of the model with `plan`'s parameters at `request`'s operating
+    /// point (`models linearize`, `models bode`; see [`analysis::linear`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): an unknown input or output (a
+    /// usage error), a failed equilibrium or run to the operating point.
+    fn linearize(
+        &self,
+        plan: &RunPlan,
+        request: &analysis::linear::LinearRequest,
+    ) -> Result<bgdsl_analysis::LinearModel, analysis::AnalysisFailure>;
 }
 
 /// The summary's last line: where the run's page is, `report         out/x/index.html`.

@@ -28,8 +28,8 @@
 //! }
 //! ```
 //!
-//! [`main`] parses the command line (`list`, `params`, `run`, `graph`, `fmu`; see
-//! [`cli`]), runs it and maps failures to the exit statuses of [`cli`]. The
+//! [`main`] parses the command line (`list`, `params`, `run`, `graph`, `fmu`, and the
+//! analyses `steady`, `linearize`, `bode`; see [`cli`]), runs it and maps failures to the exit statuses of [`cli`]. The
 //! [`catalog`] module holds the catalogue ([`Catalogue`], [`Entry`]) and the generic
 //! run; an entry's [`Extras`](catalog::Extras) add files, figures and summary lines of
 //! its own.
