@@ -10,6 +10,8 @@
 //! run from the same start reaches at `t₀ + k T`: the comparison is at the same times.
 
 use bgdsl_analysis::periodic::{eigenvalues, periodic_orbit, PeriodicOptions, PeriodicOrbit};
+use std::sync::OnceLock;
+
 use bgdsl_runtime::{FromParams, Model, Simulation};
 use models::quick_return::{QuickReturn, QuickReturnParams};
 
@@ -44,16 +46,20 @@ fn states_at(
     out
 }
 
-fn orbit(steps: usize) -> (QuickReturn, PeriodicOptions, PeriodicOrbit) {
-    let model = periodic_variant();
-    let period = core::f64::consts::TAU / model.params().w_drive;
-    let mut x0 = vec![0.0; QuickReturn::N_STATES];
-    model.initial_state(&mut x0);
-    let mut options = PeriodicOptions::new(period);
-    options.warmup_periods = 2;
-    options.steps = steps;
-    let orbit = periodic_orbit(&model, &x0, &[], &options).unwrap();
-    (model, options, orbit)
+/// The orbit, found once for all the tests of this file (about 3 s in release, 6 s of
+/// CPU in debug).
+fn orbit() -> &'static (QuickReturn, PeriodicOptions, PeriodicOrbit) {
+    static ORBIT: OnceLock<(QuickReturn, PeriodicOptions, PeriodicOrbit)> = OnceLock::new();
+    ORBIT.get_or_init(|| {
+        let model = periodic_variant();
+        let period = core::f64::consts::TAU / model.params().w_drive;
+        let mut x0 = vec![0.0; QuickReturn::N_STATES];
+        model.initial_state(&mut x0);
+        let mut options = PeriodicOptions::new(period);
+        options.warmup_periods = 2;
+        let orbit = periodic_orbit(&model, &x0, &[], &options).unwrap();
+        (model, options, orbit)
+    })
 }
 
 /// The scale a state's difference is measured against: `size` (its magnitude or
@@ -83,14 +89,9 @@ fn samples(period: f64, start: f64) -> Vec<f64> {
 /// residual (below the tolerance 1e-6 of the states' magnitudes) and what Newton's
 /// first step moves of the first integrals (square of the residual it starts from,
 /// 1e-3 after settling).
-///
-/// Ignored (about 5 s in release, minutes in debug): run it with `cargo test --release
-/// -p bgdsl-analysis --test periodic_quick_return -- --ignored`.
-/// [`orbit_returns_to_itself_and_contracts_like_the_long_run`] is the cheap check.
 #[test]
-#[ignore = "slow in debug builds: run with --release -- --ignored"]
 fn quick_return_cycle_equals_the_last_turn_of_a_long_run() {
-    let (model, options, orbit) = orbit(400);
+    let (model, options, orbit) = orbit();
     let period = options.period;
     assert_eq!(period, core::f64::consts::TAU / 5.0);
     eprintln!(
@@ -129,7 +130,7 @@ fn quick_return_cycle_equals_the_last_turn_of_a_long_run() {
     assert!(worst.0 < 1e-6, "{worst:?}");
 }
 
-/// The cheap check, not ignored: the orbit found returns to itself after one period to
+/// The orbit found returns to itself after one period to
 /// the shooting tolerance (an independent plain run at the default solver, not the
 /// Newton iteration's), period 2π/5 s; and its slowest in-plane multiplier equals
 /// the rate at which a long run's turns approach each other (a run from the assembled
@@ -137,7 +138,7 @@ fn quick_return_cycle_equals_the_last_turn_of_a_long_run() {
 /// multipliers have 0.29203 and 0.29169, held to 2e-3).
 #[test]
 fn orbit_returns_to_itself_and_contracts_like_the_long_run() {
-    let (model, options, orbit) = orbit(400);
+    let (model, options, orbit) = orbit();
     let period = options.period;
     assert!((period - core::f64::consts::TAU / 5.0).abs() < 1e-15);
     let back = &states_at(&model, &options, orbit.t0, &orbit.x0, &[orbit.t0 + period])[0];
@@ -209,9 +210,8 @@ fn in_plane(orbit: &PeriodicOrbit) -> Vec<usize> {
 /// spurious pair of modulus 2.2; 1600 steps: 1.012; 6400: 1.00007): printed, not
 /// asserted.
 #[test]
-#[ignore = "slow in debug builds: run with --release -- --ignored"]
 fn quick_return_multipliers() {
-    let (_model, _options, orbit) = orbit(400);
+    let (_model, _options, orbit) = orbit();
     for mu in orbit.multipliers.iter().take(8) {
         eprintln!("  mu = {:.6} {:+.6}i |mu| = {:.9}", mu.re, mu.im, mu.norm());
     }
