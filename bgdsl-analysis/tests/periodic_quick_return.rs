@@ -98,9 +98,9 @@ fn quick_return_cycle_equals_the_last_turn_of_a_long_run() {
         "iterations {} residual {:e} periods {}",
         orbit.iterations, orbit.residual, orbit.periods_integrated
     );
-    let on_orbit = states_at(&model, &options, orbit.t0, &orbit.x0, &samples(period, 0.0));
-    let settled = long_run(&model, &options, &samples(period, 19.0 * period));
-    let before = long_run(&model, &options, &samples(period, 18.0 * period));
+    let on_orbit = states_at(model, options, orbit.t0, &orbit.x0, &samples(period, 0.0));
+    let settled = long_run(model, options, &samples(period, 19.0 * period));
+    let before = long_run(model, options, &samples(period, 18.0 * period));
     let free = |i: usize| orbit.free_states.iter().any(|f| f.index == i);
     let peak = orbit.x0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let (mut worst, mut settled_worst) = ((0.0, ""), 0.0f64);
@@ -141,7 +141,7 @@ fn orbit_returns_to_itself_and_contracts_like_the_long_run() {
     let (model, options, orbit) = orbit();
     let period = options.period;
     assert!((period - core::f64::consts::TAU / 5.0).abs() < 1e-15);
-    let back = &states_at(&model, &options, orbit.t0, &orbit.x0, &[orbit.t0 + period])[0];
+    let back = &states_at(model, options, orbit.t0, &orbit.x0, &[orbit.t0 + period])[0];
     let peak = orbit.x0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for (i, (a, b)) in orbit.x0.iter().zip(back).enumerate() {
         if orbit.free_states.iter().any(|f| f.index == i) {
@@ -154,11 +154,7 @@ fn orbit_returns_to_itself_and_contracts_like_the_long_run() {
             QuickReturn::STATE_NAMES[i]
         );
     }
-    let turns = long_run(
-        &model,
-        &options,
-        &[8.0 * period, 9.0 * period, 10.0 * period],
-    );
+    let turns = long_run(model, options, &[8.0 * period, 9.0 * period, 10.0 * period]);
     let change = |a: &[f64], b: &[f64]| {
         a.iter()
             .zip(b)
@@ -223,7 +219,7 @@ fn quick_return_multipliers() {
         orbit.neutral.along_flow
     );
 
-    let keep = in_plane(&orbit);
+    let keep = in_plane(orbit);
     let phi = &orbit.monodromy;
     let block = nalgebra::DMatrix::from_fn(keep.len(), keep.len(), |i, j| phi[(keep[i], keep[j])]);
     let mut mu = eigenvalues(&block).unwrap();
