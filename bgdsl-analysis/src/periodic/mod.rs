@@ -244,9 +244,14 @@ pub struct PeriodicOrbit {
     pub free_states: Vec<FreeState>,
     /// `Φ = ∂x(t₀ + T)/∂x(t₀)` at the orbit (`n × n`).
     pub monodromy: DMatrix<f64>,
-    /// The Floquet multipliers (eigenvalues of `Φ`), largest modulus first.
+    /// The Floquet multipliers, largest modulus first: the eigenvalues of `Φ` in the
+    /// unknowns (rotations as three angles, free states left out), so the directions
+    /// off the rotations and the free states' trivial 1s are not among them; empty if
+    /// the QR iteration did not converge. The neutral ones are 1 to about the square
+    /// root of `Φ`'s integration error (see the module's documentation).
     pub multipliers: Vec<Complex<f64>>,
-    /// The neutral directions (singular values of `Φ − I` near zero).
+    /// The neutral directions (singular values of the scaled `Φ_z − I` below
+    /// [`PeriodicOptions::neutral_tolerance`]).
     pub neutral: NeutralDirections,
     /// Newton iterations done.
     pub iterations: usize,
