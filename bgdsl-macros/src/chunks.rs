@@ -79,7 +79,8 @@ struct Step {
 
 /// The chunked evaluation: the chunk methods and, for each caller, its body.
 pub struct Chunked {
-    /// The `__chunk_<k>` methods (inherent, generic over the scalar).
+    /// The `__chunk_<k>` functions: per chunk a trait and its impl for a slot type,
+    /// items placed beside the model (not inside its `impl`).
     pub methods: TokenStream,
     /// The body of `derivatives` after its length checks.
     pub derivatives: TokenStream,
@@ -87,6 +88,30 @@ pub struct Chunked {
     pub outputs: TokenStream,
     /// The body of `power_balance` after its length check.
     pub power: TokenStream,
+}
+
+/// How many slot types the runtime has (`bgdsl_runtime::__private::spread::SLOTS`).
+const SLOTS: usize = 16;
+
+/// `tokens` with `self` and `Self` (the model, in the code written for a method of it)
+/// replaced by `__model` and the model's type, for a chunk that is a function of a slot.
+fn as_model(tokens: TokenStream, model: &Ident) -> TokenStream {
+    tokens
+        .into_iter()
+        .map(|tree| match tree {
+            TokenTree::Ident(i) if i == "self" => {
+                TokenTree::Ident(Ident::new("__model", i.span()))
+            }
+            TokenTree::Ident(i) if i == "Self" => TokenTree::Ident(model.clone()),
+            TokenTree::Group(g) => {
+                let mut out =
+                    proc_macro2::Group::new(g.delimiter(), as_model(g.stream(), model));
+                out.set_span(g.span());
+                TokenTree::Group(out)
+            }
+            other => other,
+        })
+        .collect()
 }
 
 /// Splits the evaluation into chunks. `power` holds the power account's terms: the
@@ -284,13 +309,24 @@ pub fn split(
             "Part {} of the model's evaluation (see `derivatives`).",
             c + 1
         );
-        methods.extend(quote! {
-            #[doc = #doc]
-            #[doc(hidden)]
-            #[inline(never)]
-            #[allow(unused_variables, unused_parens, unused_braces, unused_mut, non_snake_case, clippy::all)]
+        // A trait method on a slot type of the runtime: rustc places it in the slot's
+        // codegen unit (see `bgdsl_runtime::__private::spread`), so the chunks spread
+        // over the units that LLVM optimises in parallel.
+        let part = format_ident!("__{}Part{}", graph.name, c);
+        let slot = format_ident!("m{}", c % SLOTS);
+        let slot = quote!(#rt::__private::spread::#slot::Slot);
+        let model = &graph.name;
+        let body = as_model(quote! {
+            #prelude
+            #(#statements)*
+            #dx_writes
+            #y_writes
+            #p_writes
+            (#(#out_names,)*)
+        }, model);
+        let signature = quote! {
             fn #method<Scalar: #rt::Scalar>(
-                &self,
+                __model: &#model,
                 __t: ::core::primitive::f64,
                 __x: &[Scalar; #n_states],
                 #derived_param
@@ -298,17 +334,28 @@ pub fn split(
                 __dx: ::core::option::Option<&mut [Scalar; #n_states]>,
                 __y: ::core::option::Option<&mut [Scalar; #n_outputs]>,
                 __p: ::core::option::Option<&mut [Scalar; 3]>,
-            ) -> (#(#out_types,)*) {
-                #prelude
-                #(#statements)*
-                #dx_writes
-                #y_writes
-                #p_writes
-                (#(#out_names,)*)
+            ) -> (#(#out_types,)*)
+        };
+        methods.extend(quote! {
+            #[doc = #doc]
+            #[doc(hidden)]
+            #[allow(non_camel_case_types, clippy::all)]
+            trait #part {
+                #[allow(clippy::too_many_arguments)]
+                #signature;
+            }
+            #[doc(hidden)]
+            impl #part for #slot {
+                #[inline(never)]
+                #[allow(unused_variables, unused_parens, unused_braces, unused_mut, non_snake_case, clippy::all)]
+                #signature {
+                    #body
+                }
             }
         });
         calls.extend(quote! {
-            let (#(#out_names,)*) = self.#method::<Scalar>(
+            let (#(#out_names,)*) = <#slot as #part>::#method::<Scalar>(
+                self,
                 __t,
                 __x,
                 #derived_arg
