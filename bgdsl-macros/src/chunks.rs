@@ -5,7 +5,7 @@
 //! size of one function, so one straight-line `derivatives` of 10,000 states takes
 //! minutes and gigabytes to build. Here the equations, in their computation order, are
 //! cut into runs of about [`CHUNK_TOKENS`] tokens; each run becomes an
-//! `#[inline(never)]` method `__chunk_<k>` generic over the scalar, which
+//! `#[inline(never)]` function `__chunk_<k>` generic over the scalar, which
 //! - binds the parameters, hoisted values and states it reads (cheap, so re-bound
 //!   rather than passed),
 //! - takes the signals it reads from earlier chunks as arguments,
@@ -16,7 +16,14 @@
 //! - returns the signals later chunks read.
 //!
 //! `derivatives` calls every chunk with `__dx`, `outputs` with `__y`, `power_balance`
-//! with `__p`: one copy of the equations serves all three. Only models without torn
+//! with `__p`: one copy of the equations serves all three.
+//!
+//! Each chunk is the method of a trait of its own (`__<Model>Part<k>`) implemented for
+//! one of the runtime's slot types (`bgdsl_runtime::__private::spread::m<k % 16>::Slot`),
+//! taking the model as `__model`. rustc puts a method into the codegen unit of its self
+//! type's module: as methods of the model, all chunks landed in one unit, and LLVM
+//! optimised them on one core (at 10,000 states, most of a two-minute build); as
+//! methods of the slots they spread over 16 units, wherever the model is declared. Only models without torn
 //! unknowns, dependent storage or inverse checks are chunked (those keep the
 //! straight-line code, which [`crate::staged`] builds on).
 
@@ -99,13 +106,10 @@ fn as_model(tokens: TokenStream, model: &Ident) -> TokenStream {
     tokens
         .into_iter()
         .map(|tree| match tree {
-            TokenTree::Ident(i) if i == "self" => {
-                TokenTree::Ident(Ident::new("__model", i.span()))
-            }
+            TokenTree::Ident(i) if i == "self" => TokenTree::Ident(Ident::new("__model", i.span())),
             TokenTree::Ident(i) if i == "Self" => TokenTree::Ident(model.clone()),
             TokenTree::Group(g) => {
-                let mut out =
-                    proc_macro2::Group::new(g.delimiter(), as_model(g.stream(), model));
+                let mut out = proc_macro2::Group::new(g.delimiter(), as_model(g.stream(), model));
                 out.set_span(g.span());
                 TokenTree::Group(out)
             }
@@ -316,14 +320,17 @@ pub fn split(
         let slot = format_ident!("m{}", c % SLOTS);
         let slot = quote!(#rt::__private::spread::#slot::Slot);
         let model = &graph.name;
-        let body = as_model(quote! {
-            #prelude
-            #(#statements)*
-            #dx_writes
-            #y_writes
-            #p_writes
-            (#(#out_names,)*)
-        }, model);
+        let body = as_model(
+            quote! {
+                #prelude
+                #(#statements)*
+                #dx_writes
+                #y_writes
+                #p_writes
+                (#(#out_names,)*)
+            },
+            model,
+        );
         let signature = quote! {
             fn #method<Scalar: #rt::Scalar>(
                 __model: &#model,
@@ -598,6 +605,23 @@ mod tests {
             largest < 2 * super::CHUNK_TOKENS,
             "largest chunk {largest} tokens (target {}): {sizes:?}",
             super::CHUNK_TOKENS
+        );
+    }
+
+    /// The chunks are functions of the runtime's slot types, every slot used, and none
+    /// is a method of the model: rustc places a method in its self type's module, so
+    /// methods of the model all landed in one codegen unit, optimised on one core.
+    #[test]
+    fn chunks_spread_over_the_slots() {
+        let text = crate::expand::expand(chain(400)).to_string();
+        for k in 0..super::SLOTS {
+            let slot = format!("spread :: m{k} :: Slot");
+            assert!(text.contains(&slot), "no chunk in slot {k}");
+        }
+        assert!(!text.contains("spread :: m16"), "a slot the runtime lacks");
+        assert!(
+            !text.contains("self . __chunk_"),
+            "a chunk is a method of the model"
         );
     }
 }

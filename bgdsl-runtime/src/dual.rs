@@ -880,11 +880,31 @@ mod tests {
             DualN::new(0.7, core::array::from_fn::<f64, N, _>(|k| lane(k, 1.0))),
             DualN::new(-1.3, core::array::from_fn::<f64, N, _>(|k| lane(k, -0.5))),
         );
-        let results = [-a, a + b, a - b, a * b, a / b, a.sqrt(), a.powi(-2), a.min(a), b.abs()];
+        let results = [
+            -a,
+            a + b,
+            a - b,
+            a * b,
+            a / b,
+            a.sqrt(),
+            a.powi(-2),
+            a.min(a),
+            b.abs(),
+        ];
         for (op, got) in results.iter().enumerate() {
             for k in 0..N {
                 let (x, y) = (a.lane(k), b.lane(k));
-                let want = [-x, x + y, x - y, x * y, x / y, x.sqrt(), x.powi(-2), x.min(x), y.abs()];
+                let want = [
+                    -x,
+                    x + y,
+                    x - y,
+                    x * y,
+                    x / y,
+                    x.sqrt(),
+                    x.powi(-2),
+                    x.min(x),
+                    y.abs(),
+                ];
                 assert!(
                     same(got.value(), want[op].re) && same(got.tangents()[k], want[op].eps),
                     "width {N}, operation {op}, lane {k}: {got} against {}",

@@ -111,4 +111,3 @@ pub mod __private {
         pub use crate::spread::*;
     }
 }
-
