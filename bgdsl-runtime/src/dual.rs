@@ -588,6 +588,8 @@ impl<const N: usize> Sub for DualN<N> {
 
 impl<const N: usize> Mul for DualN<N> {
     type Output = Self;
+    // The product rule adds: not a misplaced `+`.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn mul(self, rhs: Self) -> Self {
         let (x, y) = (self.re, rhs.re);
@@ -598,6 +600,8 @@ impl<const N: usize> Mul for DualN<N> {
 impl<const N: usize> Div for DualN<N> {
     type Output = Self;
     /// As [`Dual`]: `(a/b)' = (a' − (a/b)·b') / b`.
+    // The quotient rule subtracts and multiplies: not misplaced operators.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn div(self, rhs: Self) -> Self {
         let q = self.re / rhs.re;
