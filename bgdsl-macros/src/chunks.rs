@@ -23,9 +23,10 @@
 //! taking the model as `__model`. rustc puts a method into the codegen unit of its self
 //! type's module: as methods of the model, all chunks landed in one unit, and LLVM
 //! optimised them on one core (at 10,000 states, most of a two-minute build); as
-//! methods of the slots they spread over 16 units, wherever the model is declared. Only models without torn
-//! unknowns, dependent storage or inverse checks are chunked (those keep the
-//! straight-line code, which [`crate::staged`] builds on).
+//! methods of the slots they spread over 16 units, wherever the model is declared.
+//!
+//! Only models without torn unknowns, dependent storage or inverse checks are chunked
+//! (those keep the straight-line code, which [`crate::staged`] builds on).
 
 use std::collections::{BTreeMap, BTreeSet};
 
