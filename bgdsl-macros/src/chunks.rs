@@ -5,7 +5,7 @@
 //! size of one function, so one straight-line `derivatives` of 10,000 states takes
 //! minutes and gigabytes to build. Here the equations, in their computation order, are
 //! cut into runs of about [`CHUNK_TOKENS`] tokens; each run becomes an
-//! `#[inline(never)]` method `__chunk_<k>` generic over the scalar, which
+//! `#[inline(never)]` function `__chunk_<k>` generic over the scalar, which
 //! - binds the parameters, hoisted values and states it reads (cheap, so re-bound
 //!   rather than passed),
 //! - takes the signals it reads from earlier chunks as arguments,
@@ -16,9 +16,17 @@
 //! - returns the signals later chunks read.
 //!
 //! `derivatives` calls every chunk with `__dx`, `outputs` with `__y`, `power_balance`
-//! with `__p`: one copy of the equations serves all three. Only models without torn
-//! unknowns, dependent storage or inverse checks are chunked (those keep the
-//! straight-line code, which [`crate::staged`] builds on).
+//! with `__p`: one copy of the equations serves all three.
+//!
+//! Each chunk is the method of a trait of its own (`__<Model>Part<k>`) implemented for
+//! one of the runtime's slot types (`bgdsl_runtime::__private::spread::m<k % 16>::Slot`),
+//! taking the model as `__model`. rustc puts a method into the codegen unit of its self
+//! type's module: as methods of the model, all chunks landed in one unit, and LLVM
+//! optimised them on one core (at 10,000 states, most of a two-minute build); as
+//! methods of the slots they spread over 16 units, wherever the model is declared.
+//!
+//! Only models without torn unknowns, dependent storage or inverse checks are chunked
+//! (those keep the straight-line code, which [`crate::staged`] builds on).
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -79,7 +87,8 @@ struct Step {
 
 /// The chunked evaluation: the chunk methods and, for each caller, its body.
 pub struct Chunked {
-    /// The `__chunk_<k>` methods (inherent, generic over the scalar).
+    /// The `__chunk_<k>` functions: per chunk a trait and its impl for a slot type,
+    /// items placed beside the model (not inside its `impl`).
     pub methods: TokenStream,
     /// The body of `derivatives` after its length checks.
     pub derivatives: TokenStream,
@@ -87,6 +96,27 @@ pub struct Chunked {
     pub outputs: TokenStream,
     /// The body of `power_balance` after its length check.
     pub power: TokenStream,
+}
+
+/// How many slot types the runtime has (`bgdsl_runtime::__private::spread::SLOTS`).
+const SLOTS: usize = 16;
+
+/// `tokens` with `self` and `Self` (the model, in the code written for a method of it)
+/// replaced by `__model` and the model's type, for a chunk that is a function of a slot.
+fn as_model(tokens: TokenStream, model: &Ident) -> TokenStream {
+    tokens
+        .into_iter()
+        .map(|tree| match tree {
+            TokenTree::Ident(i) if i == "self" => TokenTree::Ident(Ident::new("__model", i.span())),
+            TokenTree::Ident(i) if i == "Self" => TokenTree::Ident(model.clone()),
+            TokenTree::Group(g) => {
+                let mut out = proc_macro2::Group::new(g.delimiter(), as_model(g.stream(), model));
+                out.set_span(g.span());
+                TokenTree::Group(out)
+            }
+            other => other,
+        })
+        .collect()
 }
 
 /// Splits the evaluation into chunks. `power` holds the power account's terms: the
@@ -284,13 +314,27 @@ pub fn split(
             "Part {} of the model's evaluation (see `derivatives`).",
             c + 1
         );
-        methods.extend(quote! {
-            #[doc = #doc]
-            #[doc(hidden)]
-            #[inline(never)]
-            #[allow(unused_variables, unused_parens, unused_braces, unused_mut, non_snake_case, clippy::all)]
+        // A trait method on a slot type of the runtime: rustc places it in the slot's
+        // codegen unit (see `bgdsl_runtime::__private::spread`), so the chunks spread
+        // over the units that LLVM optimises in parallel.
+        let part = format_ident!("__{}Part{}", graph.name, c);
+        let slot = format_ident!("m{}", c % SLOTS);
+        let slot = quote!(#rt::__private::spread::#slot::Slot);
+        let model = &graph.name;
+        let body = as_model(
+            quote! {
+                #prelude
+                #(#statements)*
+                #dx_writes
+                #y_writes
+                #p_writes
+                (#(#out_names,)*)
+            },
+            model,
+        );
+        let signature = quote! {
             fn #method<Scalar: #rt::Scalar>(
-                &self,
+                __model: &#model,
                 __t: ::core::primitive::f64,
                 __x: &[Scalar; #n_states],
                 #derived_param
@@ -298,17 +342,28 @@ pub fn split(
                 __dx: ::core::option::Option<&mut [Scalar; #n_states]>,
                 __y: ::core::option::Option<&mut [Scalar; #n_outputs]>,
                 __p: ::core::option::Option<&mut [Scalar; 3]>,
-            ) -> (#(#out_types,)*) {
-                #prelude
-                #(#statements)*
-                #dx_writes
-                #y_writes
-                #p_writes
-                (#(#out_names,)*)
+            ) -> (#(#out_types,)*)
+        };
+        methods.extend(quote! {
+            #[doc = #doc]
+            #[doc(hidden)]
+            #[allow(non_camel_case_types, clippy::all)]
+            trait #part {
+                #[allow(clippy::too_many_arguments)]
+                #signature;
+            }
+            #[doc(hidden)]
+            impl #part for #slot {
+                #[inline(never)]
+                #[allow(unused_variables, unused_parens, unused_braces, unused_mut, non_snake_case, clippy::all)]
+                #signature {
+                    #body
+                }
             }
         });
         calls.extend(quote! {
-            let (#(#out_names,)*) = self.#method::<Scalar>(
+            let (#(#out_names,)*) = <#slot as #part>::#method::<Scalar>(
+                self,
                 __t,
                 __x,
                 #derived_arg
@@ -551,6 +606,23 @@ mod tests {
             largest < 2 * super::CHUNK_TOKENS,
             "largest chunk {largest} tokens (target {}): {sizes:?}",
             super::CHUNK_TOKENS
+        );
+    }
+
+    /// The chunks are functions of the runtime's slot types, every slot used, and none
+    /// is a method of the model: rustc places a method in its self type's module, so
+    /// methods of the model all landed in one codegen unit, optimised on one core.
+    #[test]
+    fn chunks_spread_over_the_slots() {
+        let text = crate::expand::expand(chain(400)).to_string();
+        for k in 0..super::SLOTS {
+            let slot = format!("spread :: m{k} :: Slot");
+            assert!(text.contains(&slot), "no chunk in slot {k}");
+        }
+        assert!(!text.contains("spread :: m16"), "a slot the runtime lacks");
+        assert!(
+            !text.contains("self . __chunk_"),
+            "a chunk is a method of the model"
         );
     }
 }

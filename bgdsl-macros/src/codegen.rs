@@ -294,8 +294,9 @@ pub fn generate(graph: &Graph, causality: &Causality, equations: &Equations) -> 
 
             #derive_fn
             #staged_methods
-            #chunk_methods
         }
+
+        #chunk_methods
 
         impl ::bgdsl_runtime::FromParams for #name {
             fn from_params(params: #params_ident) -> Self {

@@ -479,33 +479,53 @@ impl<const N: usize> DualN<N> {
     /// `value` with tangents `slope · eps_k`: [`Dual`]'s chain rule, lane by lane.
     #[inline(always)]
     fn chain(self, value: f64, slope: f64) -> Self {
-        let mut eps = self.eps;
-        for e in &mut eps {
-            *e *= slope;
-        }
-        DualN::new(value, eps)
+        DualN::new(value, lanes(|k| self.eps[k] * slope))
     }
 
     /// [`Dual`]'s guarded chain rule, lane by lane: a zero tangent stays zero whatever
     /// `slope` is.
     #[inline(always)]
     fn chain_guarded(self, value: f64, slope: f64) -> Self {
-        let mut eps = self.eps;
-        for e in &mut eps {
-            *e = if *e == 0.0 { 0.0 } else { *e * slope };
-        }
+        let eps = lanes(|k| {
+            let e = self.eps[k];
+            if e == 0.0 {
+                0.0
+            } else {
+                e * slope
+            }
+        });
         DualN::new(value, eps)
     }
 
     /// `value` with the tangents `(a_k + b_k) / 2` (min and max of equal values).
     #[inline(always)]
     fn mean(self, other: Self, value: f64) -> Self {
-        let mut eps = self.eps;
-        for (e, o) in eps.iter_mut().zip(&other.eps) {
-            *e = 0.5 * (*e + o);
-        }
-        DualN::new(value, eps)
+        DualN::new(value, lanes(|k| 0.5 * (self.eps[k] + other.eps[k])))
     }
+}
+
+/// `[f(0), …, f(N − 1)]`, written out lane by lane for up to 8 lanes (the widths the
+/// Jacobians use): straight-line code for LLVM, where a loop in every arithmetic
+/// operation of a generated model costs it a loop to unroll at each one (the build of
+/// large models, `docs/large-models.md`). Each lane computes what the loop computed.
+#[inline(always)]
+fn lanes<const N: usize>(mut f: impl FnMut(usize) -> f64) -> [f64; N] {
+    let mut out = [0.0; N];
+    if N > 8 {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = f(k);
+        }
+    } else {
+        macro_rules! written_out {
+            ($($k:literal)*) => {$(
+                if $k < N {
+                    out[$k] = f($k);
+                }
+            )*};
+        }
+        written_out!(0 1 2 3 4 5 6 7);
+    }
+    out
 }
 
 impl<const N: usize> From<f64> for DualN<N> {
@@ -546,11 +566,7 @@ impl<const N: usize> Neg for DualN<N> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        let mut eps = self.eps;
-        for e in &mut eps {
-            *e = -*e;
-        }
-        DualN::new(-self.re, eps)
+        DualN::new(-self.re, lanes(|k| -self.eps[k]))
     }
 }
 
@@ -558,12 +574,7 @@ impl<const N: usize> Add for DualN<N> {
     type Output = Self;
     #[inline(always)]
     fn add(self, rhs: Self) -> Self {
-        let re = self.re + rhs.re;
-        let mut eps = self.eps;
-        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
-            *e += r;
-        }
-        DualN::new(re, eps)
+        DualN::new(self.re + rhs.re, lanes(|k| self.eps[k] + rhs.eps[k]))
     }
 }
 
@@ -571,40 +582,31 @@ impl<const N: usize> Sub for DualN<N> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, rhs: Self) -> Self {
-        let re = self.re - rhs.re;
-        let mut eps = self.eps;
-        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
-            *e -= r;
-        }
-        DualN::new(re, eps)
+        DualN::new(self.re - rhs.re, lanes(|k| self.eps[k] - rhs.eps[k]))
     }
 }
 
 impl<const N: usize> Mul for DualN<N> {
     type Output = Self;
+    // The product rule adds: not a misplaced `+`.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn mul(self, rhs: Self) -> Self {
         let (x, y) = (self.re, rhs.re);
-        let mut eps = self.eps;
-        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
-            *e = *e * y + x * r;
-        }
-        DualN::new(x * y, eps)
+        DualN::new(x * y, lanes(|k| self.eps[k] * y + x * rhs.eps[k]))
     }
 }
 
 impl<const N: usize> Div for DualN<N> {
     type Output = Self;
     /// As [`Dual`]: `(a/b)' = (a' − (a/b)·b') / b`.
+    // The quotient rule subtracts and multiplies: not misplaced operators.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn div(self, rhs: Self) -> Self {
         let q = self.re / rhs.re;
         let d = rhs.re;
-        let mut eps = self.eps;
-        for (e, r) in eps.iter_mut().zip(&rhs.eps) {
-            *e = (*e - q * r) / d;
-        }
-        DualN::new(q, eps)
+        DualN::new(q, lanes(|k| (self.eps[k] - q * rhs.eps[k]) / d))
     }
 }
 
@@ -873,5 +875,58 @@ mod tests {
         assert!(DualN::<4>::zero().is_zero() && !DualN::new(0.0, LANES).is_zero());
         assert_eq!(DualN::<4>::one().value(), 1.0);
         assert_eq!(DualN::<4>::from_f64(2.0).lane(3), Dual::constant(2.0));
+    }
+
+    /// The arithmetic of width `N` against [`Dual`], lane by lane, bit for bit.
+    fn arithmetic_matches_dual<const N: usize>() {
+        let lane = |k: usize, scale: f64| [1.0, 0.0, -2.5, 0.75, 3.0][k % 5] * scale + k as f64;
+        let (a, b) = (
+            DualN::new(0.7, core::array::from_fn::<f64, N, _>(|k| lane(k, 1.0))),
+            DualN::new(-1.3, core::array::from_fn::<f64, N, _>(|k| lane(k, -0.5))),
+        );
+        let results = [
+            -a,
+            a + b,
+            a - b,
+            a * b,
+            a / b,
+            a.sqrt(),
+            a.powi(-2),
+            a.min(a),
+            b.abs(),
+        ];
+        for (op, got) in results.iter().enumerate() {
+            for k in 0..N {
+                let (x, y) = (a.lane(k), b.lane(k));
+                let want = [
+                    -x,
+                    x + y,
+                    x - y,
+                    x * y,
+                    x / y,
+                    x.sqrt(),
+                    x.powi(-2),
+                    x.min(x),
+                    y.abs(),
+                ];
+                assert!(
+                    same(got.value(), want[op].re) && same(got.tangents()[k], want[op].eps),
+                    "width {N}, operation {op}, lane {k}: {got} against {}",
+                    want[op]
+                );
+            }
+        }
+    }
+
+    /// The lanes written out (up to 8) and the loop beyond compute every lane, none
+    /// left at zero or taken from a neighbour, at the widths around the boundary.
+    #[test]
+    fn every_width_equals_dual_lane_by_lane() {
+        arithmetic_matches_dual::<1>();
+        arithmetic_matches_dual::<3>();
+        arithmetic_matches_dual::<7>();
+        arithmetic_matches_dual::<8>();
+        arithmetic_matches_dual::<9>();
+        arithmetic_matches_dual::<12>();
     }
 }

@@ -48,6 +48,7 @@ pub mod record;
 pub mod rk;
 pub mod scalar;
 pub mod solver;
+mod spread;
 #[cfg(feature = "std")]
 pub mod stepper;
 pub mod tangent;
@@ -105,4 +106,8 @@ pub mod __bench {
 #[doc(hidden)]
 pub mod __private {
     pub use serde;
+    /// The codegen-unit slots of a chunked model's evaluation (`src/spread.rs`).
+    pub mod spread {
+        pub use crate::spread::*;
+    }
 }

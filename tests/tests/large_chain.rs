@@ -311,3 +311,28 @@ fn large_state_records_compare_field_by_field() {
         "NaN is unequal to itself, as derived PartialEq has it"
     );
 }
+
+include!("large_chain/in_function.rs");
+
+/// A chunked model declared in a function body builds and evaluates as the same model
+/// declared in a module, bit for bit: its chunks are trait methods on the runtime's
+/// slot types (`bgdsl-macros/src/chunks.rs`), which need nothing from the enclosing
+/// module (a module of chunks with `use super::*` would not see the function's items).
+#[test]
+fn a_chunked_model_in_a_function_body() {
+    let n = bodies::Bodies::N_STATES;
+    let x = state(n);
+    let mut want = vec![0.0; n];
+    bodies::Bodies::default().derivatives::<f64>(0.3, &x, &mut want);
+    let got = derivatives_in_a_function(0.3, &x);
+    assert!(
+        want.iter().any(|&d| d != 0.0),
+        "a state away from equilibrium"
+    );
+    assert!(
+        got.iter()
+            .zip(&want)
+            .all(|(p, q)| p.to_bits() == q.to_bits()),
+        "the same derivatives"
+    );
+}
