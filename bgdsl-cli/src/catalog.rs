@@ -128,6 +128,7 @@
 //! ```
 
 mod adapter;
+pub mod analysis;
 mod addons;
 mod checks;
 mod columns;
