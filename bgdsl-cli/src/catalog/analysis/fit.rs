@@ -1,13 +1,17 @@
-//! `models fit`, the model's side: the least-squares fit of parameter values of the
-//! model behind an [`Entry`](crate::catalog::Entry) to measurements, with the model's
-//! values at the measured times before and after.
+//! `models fit`: least-squares estimation of parameter values of a catalogue model from
+//! measured signals ([`bgdsl_analysis::fit`]: Levenberg–Marquardt on exact
+//! sensitivities, bounds, 95 % intervals), the model's values at the measured times
+//! before and after, and its results set (`fit.json`, `fit.yaml`, `fitted.csv`,
+//! `fitted.yaml`, figures, `index.html`, `run.yaml`).
 
 use bgdsl_analysis::fit::{fit, FitError, FitOptions, FitParameter, FitReport, Measurements};
 use bgdsl_analysis::sensitivity::parameter_index;
 use bgdsl_runtime::{FromParams, Model, Simulation, Solver};
 use serde::de::DeserializeOwned;
 
-use crate::catalog::{initial_state, params_from, RunPlan};
+use super::{html, with_unit, AnalysisFailure, AnalysisSet, DataFile, Figure};
+use crate::catalog::{column_unit, initial_state, params_from, Entry, RunPlan};
+use crate::plot::{ChartOptions, LineChart, SeriesStyle, Series};
 
 /// A parameter value to fit, by name (`resistance`, `l1[0]`), with its bounds.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,65 +43,56 @@ pub struct FitFound {
 /// Samples of the fitted curves drawn over the measured span.
 const CURVE_POINTS: usize = 600;
 
-/// Why a fit failed.
-#[derive(Debug)]
-pub enum FitFailure {
-    /// The plan's parameters do not fit the model (a bug: plans are validated).
-    Params(String),
-    /// A name of `--fit` is no parameter value of the model.
-    UnknownParameter(String),
-    /// The fit, or a run of the model, failed.
-    Fit(FitError),
-}
-
-impl core::fmt::Display for FitFailure {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            FitFailure::Params(m) => write!(f, "invalid parameters: {m}"),
-            FitFailure::UnknownParameter(name) => {
-                write!(f, "`{name}` is not a parameter value of the model")
-            }
-            FitFailure::Fit(e) => write!(f, "the fit failed: {e}"),
-        }
+/// A failed fit as the program reports it: what the user gave wrong is a usage error.
+fn failure(e: FitError) -> AnalysisFailure {
+    match e {
+        FitError::Analysis(e) => e.into(),
+        e @ (FitError::Data { .. }
+        | FitError::UnknownColumn { .. }
+        | FitError::TooFewData { .. }
+        | FitError::BadParameter { .. }) => AnalysisFailure::Usage(e.to_string()),
+        e => AnalysisFailure::Failed(format!("the fit failed: {e}")),
     }
 }
 
-impl std::error::Error for FitFailure {}
-
 /// Fits `parameters` of `M`, starting from `plan`'s parameter values, to `data` (whose
-/// columns name outputs of `M`); the runs start at the first measured time from the
-/// declared initial state (recomputed for every trial: it may depend on the fitted
-/// parameters) or, when the plan replaces initial values, from the plan's initial state.
+/// columns name outputs of `M`), with `plan`'s solver; the runs start at the first
+/// measured time from the declared initial state (recomputed for every trial: it may
+/// depend on the fitted parameters) or, when the plan replaces initial values, from the
+/// plan's initial state.
 ///
 /// # Errors
 ///
-/// [`FitFailure`].
+/// [`AnalysisFailure`]: an unknown parameter or column (usage), a failed run, a
+/// parameter the data do not determine.
 pub fn fit_of<M>(
     plan: &RunPlan,
     data: &Measurements,
     parameters: &[FitBound],
     options: &FitOptions,
-) -> Result<FitFound, FitFailure>
+) -> Result<FitFound, AnalysisFailure>
 where
     M: FromParams + Clone,
     M::Params: DeserializeOwned,
 {
-    let params =
-        params_from::<M::Params>(&plan.params).map_err(|e| FitFailure::Params(e.to_string()))?;
-    let model = M::from_params(params);
+    let model = M::from_params(params_from::<M::Params>(&plan.params)?);
     let fixed_start = (!plan.initial.is_empty()).then(|| initial_state(&model, &plan.initial));
     let mut asked = Vec::with_capacity(parameters.len());
     for bound in parameters {
-        let index = parameter_index::<M>(&bound.name)
-            .ok_or_else(|| FitFailure::UnknownParameter(bound.name.clone()))?;
+        let index = parameter_index::<M>(&bound.name).ok_or_else(|| {
+            AnalysisFailure::Usage(format!(
+                "`{}` is not a parameter value of the model",
+                bound.name
+            ))
+        })?;
         asked.push(FitParameter {
             index,
             lower: bound.lower,
             upper: bound.upper,
         });
     }
-    let (report, fitted) = fit(&model, fixed_start.as_deref(), data, &asked, options)
-        .map_err(FitFailure::Fit)?;
+    let (report, fitted) =
+        fit(&model, fixed_start.as_deref(), data, &asked, options).map_err(failure)?;
     let outputs: Vec<usize> = data
         .names
         .iter()
@@ -106,7 +101,7 @@ where
     let solver = options.sensitivity.solver;
     let run = |m: &M, times: &[f64]| {
         let x0 = fixed_start.clone().unwrap_or_else(|| initial_state(m, &[]));
-        sample_outputs(m, solver, &x0, times, &outputs).map_err(FitFailure::Fit)
+        sample_outputs(m, solver, &x0, times, &outputs).map_err(failure)
     };
     let before = run(&model, &data.times)?;
     let after = run(&fitted, &data.times)?;
@@ -328,4 +323,289 @@ pub fn with_estimates(params: &serde_yaml::Mapping, found: &FitFound) -> serde_y
         }
     }
     params
+}
+
+/// The text of `fitted.yaml`: a scenario `models run` accepts, of `entry`'s model with
+/// `params` (every parameter; those that differ from the defaults are written, and the
+/// fitted ones always), the plan's replaced initial values `initial` (state index,
+/// value) and the measured time span.
+pub fn fitted_scenario(
+    entry: &crate::catalog::Entry,
+    params: &serde_yaml::Mapping,
+    fitted: &[String],
+    initial: &[(usize, f64)],
+    span: [f64; 2],
+) -> String {
+    use serde_yaml::{Mapping, Value};
+    let defaults = entry.model.default_parameters();
+    let fitted_bases: Vec<&str> = fitted
+        .iter()
+        .map(|n| n.split_once('[').map_or(n.as_str(), |(b, _)| b))
+        .collect();
+    let mut written = Mapping::new();
+    for (key, value) in params {
+        let name = key.as_str().unwrap_or_default();
+        if fitted_bases.contains(&name) || defaults.get(key) != Some(value) {
+            written.insert(key.clone(), value.clone());
+        }
+    }
+    let mut scenario = Mapping::new();
+    scenario.insert("model".into(), entry.name.clone().into());
+    scenario.insert(
+        "description".into(),
+        format!("{} with the parameters fitted by `models fit`", entry.name).into(),
+    );
+    scenario.insert("parameters".into(), Value::Mapping(written));
+    if !initial.is_empty() {
+        let names = entry.model.state_names();
+        let mut init = Mapping::new();
+        for &(i, v) in initial {
+            if let Some(name) = names.get(i) {
+                init.insert((*name).into(), v.into());
+            }
+        }
+        scenario.insert("initial".into(), Value::Mapping(init));
+    }
+    let mut time = Mapping::new();
+    time.insert("start".into(), span[0].into());
+    time.insert("end".into(), span[1].into());
+    scenario.insert("time".into(), Value::Mapping(time));
+    let body = serde_yaml::to_string(&Value::Mapping(scenario)).unwrap_or_default();
+    format!(
+        "# Written by `models fit`: the model with the estimates in place of the \
+         starting values,\n# over the measured time span. Run it with `models run \
+         fitted.yaml`.\n{body}"
+    )
+}
+
+/// What `models fit` was given, for the results set.
+#[derive(Clone, Debug)]
+pub struct FitInput<'a> {
+    /// The measurements file as given.
+    pub data_file: &'a str,
+    /// The measurements (the columns used).
+    pub data: &'a Measurements,
+    /// The fitted parameters with their bounds.
+    pub bounds: &'a [FitBound],
+}
+
+/// The results set of `models fit`: `fit.json` and `fit.yaml` ([`FitSummary`]),
+/// `fitted.csv`, `fitted.yaml` (a scenario with the estimates), one figure per measured
+/// column (the measurements, the model at the start and fitted), the summary and the
+/// record.
+pub fn results_set(
+    entry: &Entry,
+    plan: &RunPlan,
+    input: &FitInput<'_>,
+    found: &FitFound,
+) -> AnalysisSet {
+    let data = input.data;
+    let report = &found.report;
+    let summary_file = FitSummary::new(&entry.name, data, input.bounds, found);
+    let json = serde_json::to_string_pretty(&summary_file).unwrap_or_default() + "\n";
+    let yaml = serde_yaml::to_string(&summary_file).unwrap_or_default();
+    let fitted_names: Vec<String> = report.parameters.iter().map(|p| p.name.clone()).collect();
+    let span = [data.times[0], data.times[data.times.len() - 1]];
+    let params = with_estimates(&plan.params, found);
+    let files = vec![
+        DataFile::new("fit.json", json),
+        DataFile::new("fit.yaml", yaml),
+        DataFile::new(
+            "fitted.csv",
+            String::from_utf8(fitted_csv(data, found)).unwrap_or_default(),
+        ),
+        DataFile::new(
+            "fitted.yaml",
+            fitted_scenario(entry, &params, &fitted_names, &plan.initial, span),
+        ),
+    ];
+
+    let mut summary = format!(
+        "model          {} ({})\n\
+         data           {}: {} samples of {} (t {} … {} s)\n\
+         fit            {} in {} iteration(s), {}; cost {} → {}\n",
+        entry.name,
+        entry.model.type_name(),
+        input.data_file,
+        data.times.len(),
+        data.names.join(", "),
+        span[0],
+        span[1],
+        fitted_names.join(", "),
+        report.iterations,
+        if report.converged {
+            "converged"
+        } else {
+            "NOT converged (iteration limit)"
+        },
+        crate::catalog::format_significant(summary_file.cost_before),
+        crate::catalog::format_significant(summary_file.cost_after),
+    );
+    for p in &report.parameters {
+        summary.push_str(&format!(
+            "{:<14} {} ± {} (95 %: {} … {}), from {}{}\n",
+            p.name,
+            with_unit(p.value, p.unit),
+            crate::catalog::format_significant(p.standard_error),
+            crate::catalog::format_significant(p.interval.0),
+            crate::catalog::format_significant(p.interval.1),
+            crate::catalog::format_significant(p.initial),
+            if p.at_bound { ", AT A BOUND" } else { "" }
+        ));
+    }
+    let rms: Vec<String> = report
+        .residual_rms
+        .iter()
+        .map(|(name, rms)| format!("{name} {}", with_unit(*rms, column_unit(&*entry.model, name).0)))
+        .collect();
+    summary.push_str(&format!("residual RMS   {}\n", rms.join(", ")));
+    let n = report.parameters.len();
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            pairs.push(format!(
+                "{}–{} {:.3}",
+                fitted_names[i],
+                fitted_names[j],
+                report.correlation[(i, j)]
+            ));
+        }
+    }
+    if !pairs.is_empty() {
+        summary.push_str(&format!("correlation    {}\n", pairs.join(", ")));
+    }
+    summary.push_str("files          fit.json, fit.yaml, fitted.csv, fitted.yaml (run it with `run`)\n");
+
+    let figures = data
+        .names
+        .iter()
+        .enumerate()
+        .map(|(c, name)| column_figure(entry, data, found, c, name))
+        .collect();
+
+    let mut table = String::from(
+        "<h2>Estimates</h2><table><tr><th>parameter</th><th>start</th><th>estimate</th>\
+         <th>standard error</th><th>95 % interval</th><th>unit</th></tr>",
+    );
+    for p in &report.parameters {
+        table.push_str(&format!(
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} … {}</td><td>{}</td></tr>",
+            html(&p.name),
+            p.initial,
+            p.value,
+            p.standard_error,
+            p.interval.0,
+            p.interval.1,
+            html(p.unit)
+        ));
+    }
+    table.push_str(&format!(
+        "</table><p>{}. Intervals: ± t(0.975, {}) = {:.4} standard errors, from the \
+         covariance σ² (JᵀJ)⁻¹ at the estimate.</p>",
+        html(&summary_file.stopping_reason),
+        report.degrees_of_freedom,
+        report.t_quantile
+    ));
+
+    let mut record = serde_yaml::Mapping::new();
+    record.insert("data".into(), input.data_file.into());
+    record.insert(
+        "columns".into(),
+        serde_yaml::to_value(&data.names).unwrap_or_default(),
+    );
+    let mut estimates = serde_yaml::Mapping::new();
+    for (p, b) in report.parameters.iter().zip(input.bounds) {
+        let mut entry = serde_yaml::Mapping::new();
+        entry.insert("estimate".into(), p.value.into());
+        entry.insert("standard_error".into(), p.standard_error.into());
+        entry.insert("bounds".into(), serde_yaml::to_value([b.lower, b.upper]).unwrap_or_default());
+        estimates.insert(p.name.clone().into(), entry.into());
+    }
+    record.insert("parameters".into(), estimates.into());
+    record.insert("iterations".into(), report.iterations.into());
+    record.insert("converged".into(), report.converged.into());
+    record.insert("cost_before".into(), summary_file.cost_before.into());
+    record.insert("cost_after".into(), summary_file.cost_after.into());
+    AnalysisSet {
+        command: "fit",
+        summary,
+        files,
+        figures,
+        sections: vec![table],
+        record,
+    }
+}
+
+/// Column `c`'s figure: the measurements (+), the model with the starting values
+/// (dashed) and fitted (solid).
+fn column_figure(entry: &Entry, data: &Measurements, found: &FitFound, c: usize, name: &str) -> Figure {
+    let (unit, _) = column_unit(&*entry.model, name);
+    let measured: Vec<(f64, f64)> = data
+        .times
+        .iter()
+        .zip(&data.values[c])
+        .filter(|(_, v)| v.is_finite())
+        .map(|(t, v)| (*t, *v))
+        .collect();
+    let (lo, hi) = measured
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, v)| (lo.min(v), hi.max(v)));
+    let dy = 0.012 * (hi - lo).abs().max(1e-300);
+    let span = data.times[data.times.len() - 1] - data.times[0];
+    let dx = 0.004 * span;
+    let mut marks = Vec::with_capacity(measured.len() * 6);
+    for &(t, v) in &measured {
+        marks.extend([
+            (t - dx, v),
+            (t + dx, v),
+            (f64::NAN, f64::NAN),
+            (t, v - dy),
+            (t, v + dy),
+            (f64::NAN, f64::NAN),
+        ]);
+    }
+    let start: Vec<(f64, f64)> = data.times.iter().copied().zip(found.before[c].iter().copied()).collect();
+    let fitted: Vec<(f64, f64)> = found
+        .curve_times
+        .iter()
+        .copied()
+        .zip(found.curve[c].iter().copied())
+        .collect();
+    let y_label = if unit.is_empty() {
+        name.to_owned()
+    } else {
+        format!("{name} ({unit})")
+    };
+    Figure {
+        id: format!("fit_{name}"),
+        title: format!("{name}: measured and fitted"),
+        caption: format!(
+            "{name} as measured (+, {} samples), the model with the starting parameter \
+             values (dashed) and with the estimates (solid); the residuals are in \
+             fitted.csv.",
+            measured.len()
+        ),
+        chart: LineChart {
+            title: format!("{name}: measured and fitted ({})", entry.name),
+            x_label: "time t (s)".to_owned(),
+            y_label,
+            series: vec![
+                Series::new("measured", marks),
+                Series::new("start", start),
+                Series::new("fitted", fitted),
+            ],
+        },
+        options: ChartOptions {
+            styles: vec![
+                SeriesStyle {
+                    color: (90, 90, 90),
+                    width: 1,
+                    dashed: false,
+                },
+                SeriesStyle::dashed((31, 119, 180)),
+                SeriesStyle::solid((214, 39, 40)),
+            ],
+            ..ChartOptions::default()
+        },
+    }
 }

@@ -1,12 +1,23 @@
-//! `models periodic`, the model's side: the periodic orbit of the model behind an
-//! [`Entry`](crate::catalog::Entry) with a plan's parameters, and one period of it
-//! sampled into the columns of a run.
+//! `models periodic`: the periodic steady state of a periodically driven catalogue
+//! model by shooting, with its Floquet multipliers ([`bgdsl_analysis::periodic`]),
+//! one period of it sampled into the columns of a run, and its results set
+//! (`orbit.csv`, `floquet.json`, figures, `index.html`, `run.yaml`).
 
 use bgdsl_analysis::periodic::{periodic_orbit, PeriodicError, PeriodicOptions, PeriodicOrbit};
-use bgdsl_runtime::{FromParams, Simulation};
+use bgdsl_runtime::{FromParams, Simulation, Solver};
 use serde::de::DeserializeOwned;
+use serde_yaml::{Mapping, Value};
 
-use crate::catalog::{initial_state, params_from, Column, RunPlan};
+use super::{html, with_unit, AnalysisFailure, AnalysisSet, DataFile, Figure};
+use crate::catalog::{column_unit, initial_state, params_from, Column, Entry, RunPlan};
+use crate::plot::{ChartOptions, LineChart, Series};
+
+/// The one period of the orbit, the columns of a run's CSV.
+pub const ORBIT_FILE: &str = "orbit.csv";
+/// The period, the multipliers and the shooting's record.
+pub const FLOQUET_FILE: &str = "floquet.json";
+/// Charts of at most this many columns are drawn (outputs first, then states).
+pub const CHART_LIMIT: usize = 16;
 
 /// What `models periodic` asks of a model, beside the plan (parameters, initial state,
 /// start time = the orbit's phase `t0`).
@@ -22,6 +33,9 @@ pub struct PeriodicRequest {
     pub tolerance: f64,
     /// Newton iterations at most.
     pub max_iterations: usize,
+    /// The solver of the period map and of the samples (`None`: the library's,
+    /// Radau5 at rtol 1e-9, atol 1e-11).
+    pub solver: Option<Solver>,
 }
 
 impl PeriodicRequest {
@@ -34,17 +48,20 @@ impl PeriodicRequest {
             points: 200,
             tolerance: options.tolerance,
             max_iterations: options.max_iterations,
+            solver: None,
         }
     }
 
     /// The library's options for an orbit starting at `t0`.
     pub fn options(&self, t0: f64) -> PeriodicOptions {
+        let defaults = PeriodicOptions::new(self.period);
         PeriodicOptions {
             t0,
             warmup_periods: self.warmup_periods,
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
-            ..PeriodicOptions::new(self.period)
+            solver: self.solver.unwrap_or(defaults.solver),
+            ..defaults
         }
     }
 }
@@ -60,59 +77,46 @@ pub struct PeriodicFound {
     pub rows: Vec<Vec<f64>>,
 }
 
-/// Why `models periodic` found no orbit.
-#[derive(Debug)]
-pub enum PeriodicFailure {
-    /// The plan's parameters do not fit the model (a bug: plans are validated).
-    Params(String),
-    /// The shooting failed.
-    Orbit(PeriodicError),
-}
-
-impl core::fmt::Display for PeriodicFailure {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            PeriodicFailure::Params(m) => write!(f, "invalid parameters: {m}"),
-            PeriodicFailure::Orbit(e) => write!(f, "{e}"),
-        }
+/// A failed shooting as the program reports it.
+fn failure(e: PeriodicError) -> AnalysisFailure {
+    match e {
+        PeriodicError::Analysis(e) => e.into(),
+        PeriodicError::BadPeriod(_) => AnalysisFailure::Usage(e.to_string()),
+        e => AnalysisFailure::Failed(e.to_string()),
     }
 }
-
-impl std::error::Error for PeriodicFailure {}
 
 /// The periodic orbit of `M` with `plan`'s parameters through a state near the plan's
 /// initial state, starting at the plan's first time, and `columns` over one period.
 ///
 /// # Errors
 ///
-/// [`PeriodicFailure`].
+/// [`AnalysisFailure`]: a bad period (usage), a failed run, no convergence.
 pub fn periodic_of<M>(
     plan: &RunPlan,
     columns: &[Column],
     request: &PeriodicRequest,
-) -> Result<PeriodicFound, PeriodicFailure>
+) -> Result<PeriodicFound, AnalysisFailure>
 where
     M: FromParams,
     M::Params: DeserializeOwned,
 {
-    let params = params_from::<M::Params>(&plan.params)
-        .map_err(|e| PeriodicFailure::Params(e.to_string()))?;
-    let model = M::from_params(params);
+    let model = M::from_params(params_from::<M::Params>(&plan.params)?);
     let guess = initial_state(&model, &plan.initial);
     let t0 = plan.span()[0];
     let options = request.options(t0);
-    let orbit = periodic_orbit(&model, &guess, &[], &options).map_err(PeriodicFailure::Orbit)?;
+    let orbit = periodic_orbit(&model, &guess, &[], &options).map_err(failure)?;
     let points = request.points.max(2);
     let times: Vec<f64> = (0..=points)
         .map(|k| t0 + request.period * k as f64 / points as f64)
         .collect();
     let mut rows = Vec::with_capacity(times.len());
-    let mut sim = Simulation::new(&model, options.solver)
-        .map_err(|e| PeriodicFailure::Orbit(PeriodicError::from(e)))?;
+    let mut sim =
+        Simulation::new(&model, options.solver).map_err(|e| failure(PeriodicError::from(e)))?;
     sim.run(t0, &orbit.x0, &times, &mut |_t: f64, x: &[f64], y: &[f64]| {
         rows.push(columns.iter().map(|c| c.value(x, y)).collect())
     })
-    .map_err(|e| PeriodicFailure::Orbit(PeriodicError::from(e)))?;
+    .map_err(|e| failure(PeriodicError::from(e)))?;
     Ok(PeriodicFound {
         orbit,
         times,
@@ -293,4 +297,267 @@ pub fn orbit_csv(names: &[String], found: &PeriodicFound) -> Vec<u8> {
         let _ = writer.write_row(&mut out, core::iter::once(*t).chain(row.iter().copied()));
     }
     out
+}
+
+/// The columns of `orbit.csv`, those of the run's CSV: the plan's `record`, else the
+/// entry's [`Entry::record`], else every state and output.
+pub fn orbit_columns(entry: &Entry, plan: &RunPlan) -> Vec<(String, Column)> {
+    if let Some(chosen) = &plan.record {
+        return chosen.clone();
+    }
+    match entry.record {
+        Some(names) => names
+            .iter()
+            .filter_map(|name| crate::catalog::resolve_columns(&*entry.model, name))
+            .flatten()
+            .collect(),
+        None => crate::catalog::columns::all_columns(&*entry.model),
+    }
+}
+
+/// The text of `orbit.units.csv`: `column,unit,description`, one row per column of
+/// `orbit.csv`, as beside a run's CSV.
+fn units_csv(entry: &Entry, names: &[String]) -> String {
+    let field = |text: &str| {
+        if text.contains([',', '"', '\n']) {
+            format!("\"{}\"", text.replace('"', "\"\""))
+        } else {
+            text.to_owned()
+        }
+    };
+    let mut text = String::from("column,unit,description\n");
+    for name in core::iter::once("t").chain(names.iter().map(String::as_str)) {
+        let (unit, doc) = column_unit(&*entry.model, name);
+        let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+        text.push_str(&format!("{},{},{}\n", field(name), field(unit), field(&doc)));
+    }
+    text
+}
+
+/// A figure id from a column name: letters, digits and `_` only.
+fn figure_id(name: &str) -> String {
+    let cleaned: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    format!("orbit_{cleaned}")
+}
+
+/// The results set of `models periodic`: `orbit.csv` (+ units), `floquet.json`, one
+/// chart per column over the period (outputs first, at most [`CHART_LIMIT`]), the
+/// multipliers against the unit circle, the summary and the record.
+pub fn results_set(
+    entry: &Entry,
+    request: &PeriodicRequest,
+    period_source: &str,
+    columns: &[(String, Column)],
+    found: &PeriodicFound,
+) -> AnalysisSet {
+    let orbit = &found.orbit;
+    let names: Vec<String> = columns.iter().map(|(n, _)| n.clone()).collect();
+    let pairs: Vec<(f64, f64)> = orbit.multipliers.iter().map(|m| (m.re, m.im)).collect();
+    let stability = Stability::of(pairs.iter().copied());
+    let files = vec![
+        DataFile::new(
+            ORBIT_FILE,
+            String::from_utf8(orbit_csv(&names, found)).unwrap_or_default(),
+        ),
+        DataFile::new("orbit.units.csv", units_csv(entry, &names)),
+        DataFile::new(
+            FLOQUET_FILE,
+            floquet_json(entry.model.type_name(), entry.model.state_names(), orbit),
+        ),
+    ];
+
+    let moduli: Vec<String> = pairs
+        .iter()
+        .map(|&(re, im)| format!("{:.6}", re.hypot(im)))
+        .collect();
+    let mut summary = format!(
+        "model          {} ({})\n\
+         periodic orbit period {} ({period_source}), from t0 = {} s\n\
+         shooting       {} Newton iteration(s), {} period(s) integrated, residual {:.2e} \
+         of the tolerance {:e}\n\
+         multipliers    |μ| = {}\n\
+         stability      {}\n",
+        entry.name,
+        entry.model.type_name(),
+        with_unit(orbit.period, "s"),
+        orbit.t0,
+        orbit.iterations,
+        orbit.periods_integrated,
+        orbit.residual,
+        request.tolerance,
+        moduli.join(", "),
+        stability.describe(),
+    );
+    if orbit.neutral.dimension > 0 {
+        let states: Vec<&str> = orbit.neutral.states.iter().map(|(n, _)| *n).collect();
+        summary.push_str(&format!(
+            "neutral        {} direction(s), mostly {} (along the flow: {:.3})\n",
+            orbit.neutral.dimension,
+            states.join(", "),
+            orbit.neutral.along_flow
+        ));
+    }
+    for free in &orbit.free_states {
+        summary.push_str(&format!(
+            "free state     {}: nothing depends on it, not required to return (drift {} per \
+             period)\n",
+            free.name,
+            crate::catalog::format_significant(free.drift)
+        ));
+    }
+    summary.push_str(&format!(
+        "files          {ORBIT_FILE} ({} samples over one period), {FLOQUET_FILE}\n",
+        found.times.len()
+    ));
+
+    let mut figures = Vec::new();
+    let outputs_first = columns
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, c))| matches!(c, Column::Output(_)))
+        .chain(
+            columns
+                .iter()
+                .enumerate()
+                .filter(|(_, (_, c))| matches!(c, Column::State(_))),
+        );
+    for (k, (name, _)) in outputs_first.take(CHART_LIMIT) {
+        let (unit, doc) = column_unit(&*entry.model, name);
+        let points: Vec<(f64, f64)> = found
+            .times
+            .iter()
+            .zip(&found.rows)
+            .map(|(t, row)| (*t, row[k]))
+            .collect();
+        let y_label = if unit.is_empty() {
+            name.clone()
+        } else {
+            format!("{name} ({unit})")
+        };
+        figures.push(Figure {
+            id: figure_id(name),
+            title: format!("{name} over one period"),
+            caption: format!(
+                "{name}{}{} on the periodic orbit, from t0 = {} s over one period T = {} s \
+                 ({} samples; {ORBIT_FILE}).",
+                if doc.is_empty() { "" } else { ": " },
+                doc.trim_end_matches('.'),
+                orbit.t0,
+                orbit.period,
+                found.times.len()
+            ),
+            chart: LineChart {
+                title: format!("{name} on the periodic orbit ({})", entry.name),
+                x_label: "time t (s)".to_owned(),
+                y_label,
+                series: vec![Series::new(name.clone(), points)],
+            },
+            options: ChartOptions::default(),
+        });
+    }
+    figures.push(multiplier_figure(entry, &pairs));
+
+    let mut table = String::from(
+        "<h2>Floquet multipliers</h2><table><tr><th>#</th><th>Re μ</th><th>Im μ</th>\
+         <th>|μ|</th></tr>",
+    );
+    for (i, &(re, im)) in pairs.iter().enumerate() {
+        table.push_str(&format!(
+            "<tr><td>{}</td><td>{re:.9}</td><td>{im:.9}</td><td>{:.9}</td></tr>",
+            i + 1,
+            re.hypot(im)
+        ));
+    }
+    table.push_str(&format!(
+        "</table><p>{}.</p>",
+        html(&stability.describe())
+    ));
+
+    let mut record = Mapping::new();
+    record.insert("period".into(), orbit.period.into());
+    record.insert("period_source".into(), period_source.into());
+    record.insert("t0".into(), orbit.t0.into());
+    record.insert("warmup_periods".into(), request.warmup_periods.into());
+    record.insert("points".into(), request.points.into());
+    record.insert("tolerance".into(), request.tolerance.into());
+    record.insert("iterations".into(), orbit.iterations.into());
+    record.insert("stability".into(), stability.keyword().into());
+    record.insert(
+        "largest_multiplier_modulus".into(),
+        pairs
+            .iter()
+            .map(|&(re, im)| re.hypot(im))
+            .fold(0.0f64, f64::max)
+            .into(),
+    );
+    record.insert(
+        "neutral_directions".into(),
+        Value::from(orbit.neutral.dimension),
+    );
+    AnalysisSet {
+        command: "periodic",
+        summary,
+        files,
+        figures,
+        sections: vec![table],
+        record,
+    }
+}
+
+/// The multipliers (×) in the complex plane with the unit circle: inside is
+/// attracting.
+fn multiplier_figure(entry: &Entry, pairs: &[(f64, f64)]) -> Figure {
+    let extent = pairs
+        .iter()
+        .map(|&(re, im)| re.abs().max(im.abs()))
+        .fold(1.0f64, f64::max)
+        * 1.1;
+    let d = 0.03 * extent;
+    let mut crosses = Vec::new();
+    for &(x, y) in pairs {
+        crosses.extend([
+            (x - d, y - d),
+            (x + d, y + d),
+            (f64::NAN, f64::NAN),
+            (x - d, y + d),
+            (x + d, y - d),
+            (f64::NAN, f64::NAN),
+        ]);
+    }
+    let circle: Vec<(f64, f64)> = (0..=360)
+        .map(|k| {
+            let a = core::f64::consts::TAU * k as f64 / 360.0;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    Figure {
+        id: "floquet_multipliers".to_owned(),
+        title: "Floquet multipliers".to_owned(),
+        caption: format!(
+            "The {} Floquet multipliers (eigenvalues of the monodromy matrix Φ, ×) and the \
+             unit circle: a multiplier inside it is a direction in which motions near the \
+             orbit return to it, by the factor |μ| per period; on it, one in which they \
+             neither return nor depart; outside, one in which they depart. See \
+             {FLOQUET_FILE}.",
+            pairs.len()
+        ),
+        chart: LineChart {
+            title: format!("Floquet multipliers ({})", entry.name),
+            x_label: "Re μ".to_owned(),
+            y_label: "Im μ".to_owned(),
+            series: vec![
+                Series::new("multiplier", crosses),
+                Series::new("unit circle", circle),
+            ],
+        },
+        options: ChartOptions {
+            x_range: Some((-extent, extent)),
+            y_range: Some((-extent, extent)),
+            size: (720, 720),
+            ..ChartOptions::default()
+        },
+    }
 }
