@@ -128,8 +128,8 @@
 //! ```
 
 mod adapter;
-pub mod analysis;
 mod addons;
+pub mod analysis;
 mod checks;
 mod columns;
 mod entry;
@@ -239,6 +239,59 @@ pub trait CatalogModel: Send + Sync {
         columns: &[Column],
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError>;
+    /// The equilibrium of the model with `plan`'s parameters, from its initial state
+    /// (with `request`'s guess) at its start time (`models steady`; see
+    /// [`analysis::steady`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): a singular Jacobian naming the
+    /// states, no convergence.
+    fn steady(
+        &self,
+        plan: &RunPlan,
+        request: &analysis::steady::SteadyRequest,
+    ) -> Result<analysis::steady::SteadyResult, analysis::AnalysisFailure>;
+    /// The linear model of the model with `plan`'s parameters at `request`'s operating
+    /// point (`models linearize`, `models bode`; see [`analysis::linear`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): an unknown input or output (a
+    /// usage error), a failed equilibrium or run to the operating point.
+    fn linearize(
+        &self,
+        plan: &RunPlan,
+        request: &analysis::linear::LinearRequest,
+    ) -> Result<bgdsl_analysis::LinearModel, analysis::AnalysisFailure>;
+    /// The periodic orbit of the model with `plan`'s parameters near its initial state,
+    /// from its start time, with `columns` sampled over one period (`models periodic`;
+    /// see [`analysis::periodic`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): a bad period, a failed run, no
+    /// convergence.
+    fn periodic(
+        &self,
+        plan: &RunPlan,
+        columns: &[Column],
+        request: &analysis::periodic::PeriodicRequest,
+    ) -> Result<analysis::periodic::PeriodicFound, analysis::AnalysisFailure>;
+    /// The least-squares fit of `parameters` of the model, from `plan`'s values, to
+    /// `data` (`models fit`; see [`analysis::fit`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): an unknown parameter or column, a
+    /// failed run, parameters the data do not determine.
+    fn fit(
+        &self,
+        plan: &RunPlan,
+        data: &bgdsl_analysis::fit::Measurements,
+        parameters: &[analysis::fit::FitBound],
+        options: &bgdsl_analysis::fit::FitOptions,
+    ) -> Result<analysis::fit::FitFound, analysis::AnalysisFailure>;
 }
 
 /// The summary's last line: where the run's page is, `report         out/x/index.html`.

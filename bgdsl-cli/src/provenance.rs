@@ -22,7 +22,9 @@
 //!   limits) and `solver_options` (every setting of the solver, as Rust prints it);
 //! - `results`: the results files, by name;
 //! - for a sweep, `sweep`: the swept parameters with every value, the peaks and the
-//!   window.
+//!   window;
+//! - for an analysis, `analysis`: the command, what was asked and the headline
+//!   results.
 //!
 //! The keys `parameters`, `initial`, `time`, `output`, `plots`, `solver` and `sweep` are
 //! written as the keys of the same name of a [scenario file](crate::scenario), so that
@@ -364,6 +366,11 @@ pub struct RunRecord {
     /// The shard folders a `merge` joined into this one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub merged_from: Vec<String>,
+    /// For an analysis (`models steady`, `linearize`, `bode`, `periodic`, `fit`): its
+    /// `command`, what was asked and the headline results
+    /// ([`catalog::analysis`](crate::catalog::analysis)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub analysis: Option<Mapping>,
 }
 
 /// A Monte Carlo study, as a scenario's `monte_carlo:` (a `csv` column written as the
@@ -532,6 +539,7 @@ impl RunRecord {
             monte_carlo: None,
             shard: None,
             merged_from: Vec::new(),
+            analysis: None,
         })
     }
 }

@@ -125,7 +125,8 @@ fn measurements() -> (String, [f64; 2]) {
         rows.push((t, [y[0], y[1]]))
     })
     .unwrap();
-    let rms = |c: usize| (rows.iter().map(|r| r.1[c] * r.1[c]).sum::<f64>() / rows.len() as f64).sqrt();
+    let rms =
+        |c: usize| (rows.iter().map(|r| r.1[c] * r.1[c]).sum::<f64>() / rows.len() as f64).sqrt();
     let sigma = [RELATIVE_NOISE * rms(0), RELATIVE_NOISE * rms(1)];
     let mut noise = Normal(2024);
     let mut text = String::from("t,current,speed\n");
@@ -180,9 +181,15 @@ fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
         assert_eq!(p["name"], name);
         let low = p["interval_95"][0].as_f64().unwrap();
         let high = p["interval_95"][1].as_f64().unwrap();
-        assert!(low <= value && value <= high, "{name}: {value} not in [{low}, {high}]");
+        assert!(
+            low <= value && value <= high,
+            "{name}: {value} not in [{low}, {high}]"
+        );
         let initial = p["initial"].as_f64().unwrap();
-        assert!(high - low < (initial - value).abs(), "{name}: interval not informative");
+        assert!(
+            high - low < (initial - value).abs(),
+            "{name}: interval not informative"
+        );
     }
     let correlation = &summary["correlation"];
     assert_eq!(correlation[0][0].as_f64().unwrap(), 1.0);
@@ -191,9 +198,17 @@ fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
     let before = summary["cost_before"].as_f64().unwrap();
     let after = summary["cost_after"].as_f64().unwrap();
     assert!(after < 0.1 * before, "cost {before} → {after}");
-    for (rms, sigma) in summary["residual_rms"].as_array().unwrap().iter().zip(sigma) {
+    for (rms, sigma) in summary["residual_rms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(sigma)
+    {
         let rms = rms["rms"].as_f64().unwrap();
-        assert!((rms / sigma - 1.0).abs() < 0.15, "residual RMS {rms} vs σ {sigma}");
+        assert!(
+            (rms / sigma - 1.0).abs() < 0.15,
+            "residual RMS {rms} vs σ {sigma}"
+        );
     }
     // fit.yaml says the same as fit.json.
     let yaml: serde_yaml::Value =
@@ -245,7 +260,11 @@ fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
         .collect();
     assert!((last[0] - 0.3).abs() < 1e-12, "the measured span");
     let measured_end = rows[300][4];
-    assert!((last[speed] - measured_end).abs() < 3.0 * sigma[1], "{} vs {measured_end}", last[speed]);
+    assert!(
+        (last[speed] - measured_end).abs() < 3.0 * sigma[1],
+        "{} vs {measured_end}",
+        last[speed]
+    );
 }
 
 /// Runs the fit with `edit` applied to the arguments and `csv` as the data; returns
@@ -271,7 +290,11 @@ fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
 
     let cases: Vec<(String, &str)> = vec![
         (
-            refused(&scratch, "t,current,torque\n0,0,0\n0.1,1,1\n0.2,1,1\n", |_| {}),
+            refused(
+                &scratch,
+                "t,current,torque\n0,0,0\n0.1,1,1\n0.2,1,1\n",
+                |_| {},
+            ),
             "`torque` is not an output of the model",
         ),
         (
@@ -283,7 +306,11 @@ fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
             "not a finite number",
         ),
         (
-            refused(&scratch, "t,current,speed\n0,,0\n0.1,nan,1\n0.2,,2\n", |_| {}),
+            refused(
+                &scratch,
+                "t,current,speed\n0,,0\n0.1,nan,1\n0.2,,2\n",
+                |_| {},
+            ),
             "`current` has no measured value",
         ),
         (
@@ -295,7 +322,9 @@ fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
             "spare[0]",
         ),
         (
-            refused(&scratch, good, |a| a.bound = vec!["resistance=2:1".to_owned()]),
+            refused(&scratch, good, |a| {
+                a.bound = vec!["resistance=2:1".to_owned()]
+            }),
             "empty",
         ),
         (
@@ -306,10 +335,7 @@ fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
             refused(&scratch, good, |a| a.columns = vec!["voltage".to_owned()]),
             "no column `voltage`",
         ),
-        (
-            refused(&scratch, good, |a| a.fit = Vec::new()),
-            "--fit",
-        ),
+        (refused(&scratch, good, |a| a.fit = Vec::new()), "--fit"),
     ];
     for (message, expected) in cases {
         assert!(message.contains(expected), "`{expected}` not in: {message}");

@@ -55,7 +55,8 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("bgdsl-periodic-{name}-{}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("bgdsl-periodic-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).unwrap();
         Scratch(dir)
@@ -94,7 +95,12 @@ fn periodic(args: PeriodicArgs) -> Result<(), bgdsl_cli::cli::Failure> {
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(str::to_owned).collect();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
     let rows = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
         .collect();
@@ -123,9 +129,21 @@ fn the_orbit_and_multipliers_of_a_driven_oscillator_match_the_closed_form() {
         let t = row[0];
         let x = amplitude * (w * t - phase).cos();
         let p = -m * amplitude * w * (w * t - phase).sin();
-        assert!((row[2] - x).abs() < 1e-6 * amplitude, "t = {t}: q {} vs {x}", row[2]);
-        assert!((row[3] - x).abs() < 1e-6 * amplitude, "t = {t}: x {} vs {x}", row[3]);
-        assert!((row[1] - p).abs() < 1e-6 * amplitude * w, "t = {t}: p {} vs {p}", row[1]);
+        assert!(
+            (row[2] - x).abs() < 1e-6 * amplitude,
+            "t = {t}: q {} vs {x}",
+            row[2]
+        );
+        assert!(
+            (row[3] - x).abs() < 1e-6 * amplitude,
+            "t = {t}: x {} vs {x}",
+            row[3]
+        );
+        assert!(
+            (row[1] - p).abs() < 1e-6 * amplitude * w,
+            "t = {t}: p {} vs {p}",
+            row[1]
+        );
     }
 
     let floquet: serde_json::Value =
@@ -171,7 +189,10 @@ fn the_period_is_required_and_a_drive_parameter_must_be_a_frequency() {
     let mut a = args(&out, &[]);
     a.drive = Some("m".to_owned());
     let message = periodic(a).unwrap_err().to_string();
-    assert!(message.contains("`m`") && message.contains("kg"), "{message}");
+    assert!(
+        message.contains("`m`") && message.contains("kg"),
+        "{message}"
+    );
     let mut a = args(&out, &[]);
     a.drive = Some("nope".to_owned());
     let message = periodic(a).unwrap_err().to_string();

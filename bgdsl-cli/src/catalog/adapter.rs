@@ -30,7 +30,7 @@ impl<M: FromParams> Adapter<M> {
 
 impl<M> CatalogModel for Adapter<M>
 where
-    M: FromParams + WithInputs + Default + 'static,
+    M: FromParams + WithInputs + Default + Clone + 'static,
     M::Params: Serialize + DeserializeOwned,
 {
     fn inputs(&self) -> &'static [bgdsl_runtime::InputInfo] {
@@ -143,5 +143,40 @@ where
         observer: &dyn Observer,
     ) -> Result<Vec<f64>, RunError> {
         trajectory::<M>(plan, columns, observer)
+    }
+
+    fn steady(
+        &self,
+        plan: &RunPlan,
+        request: &super::analysis::steady::SteadyRequest,
+    ) -> Result<super::analysis::steady::SteadyResult, super::analysis::AnalysisFailure> {
+        super::analysis::steady::steady::<M>(plan, request)
+    }
+
+    fn linearize(
+        &self,
+        plan: &RunPlan,
+        request: &super::analysis::linear::LinearRequest,
+    ) -> Result<bgdsl_analysis::LinearModel, super::analysis::AnalysisFailure> {
+        super::analysis::linear::linearize::<M>(plan, request)
+    }
+
+    fn periodic(
+        &self,
+        plan: &RunPlan,
+        columns: &[super::Column],
+        request: &super::analysis::periodic::PeriodicRequest,
+    ) -> Result<super::analysis::periodic::PeriodicFound, super::analysis::AnalysisFailure> {
+        super::analysis::periodic::periodic_of::<M>(plan, columns, request)
+    }
+
+    fn fit(
+        &self,
+        plan: &RunPlan,
+        data: &bgdsl_analysis::fit::Measurements,
+        parameters: &[super::analysis::fit::FitBound],
+        options: &bgdsl_analysis::fit::FitOptions,
+    ) -> Result<super::analysis::fit::FitFound, super::analysis::AnalysisFailure> {
+        super::analysis::fit::fit_of::<M>(plan, data, parameters, options)
     }
 }

@@ -56,7 +56,7 @@ impl Entry {
     /// The builder of an entry for model `M`, with the defaults of [`EntryOf`].
     pub fn of<M>() -> EntryOf<M>
     where
-        M: FromParams + WithInputs + Default + 'static,
+        M: FromParams + WithInputs + Default + Clone + 'static,
         M::Params: Serialize + DeserializeOwned,
     {
         EntryOf::new()
@@ -82,7 +82,7 @@ pub struct EntryOf<M: FromParams> {
 
 impl<M> EntryOf<M>
 where
-    M: FromParams + WithInputs + Default + 'static,
+    M: FromParams + WithInputs + Default + Clone + 'static,
     M::Params: Serialize + DeserializeOwned,
 {
     fn new() -> Self {
@@ -177,7 +177,7 @@ where
 
 impl<M> From<EntryOf<M>> for Entry
 where
-    M: FromParams + WithInputs + Default + 'static,
+    M: FromParams + WithInputs + Default + Clone + 'static,
     M::Params: Serialize + DeserializeOwned,
 {
     fn from(e: EntryOf<M>) -> Self {
@@ -265,7 +265,7 @@ impl Catalogue {
     /// Adds model `M` with the defaults of [`Entry::of`].
     pub fn model<M>(self) -> Self
     where
-        M: FromParams + WithInputs + Default + 'static,
+        M: FromParams + WithInputs + Default + Clone + 'static,
         M::Params: Serialize + DeserializeOwned,
     {
         self.entry(Entry::of::<M>())

@@ -13,7 +13,21 @@
 //!            [--yes] [--shard K/N]
 //! models merge DIR... [--out DIR]         join shard folders into the one-process result
 //! models graph <model> [--svg]            the causal bond graph as DOT (or SVG via `dot`)
+//! models steady <model | scenario.yaml> [--guess STATE=VALUE ...] [--hold STATE ...]
+//!                                         the equilibrium: steady.yaml
+//! models linearize <model | scenario.yaml> [--at initial|steady|TIME]
+//!            [--inputs U,V] [--outputs Y,Z]
+//!                                         A, B, C, D and the modes: linear.json, A.csv…
+//! models bode <model | scenario.yaml> --input U --output Y [--from F] [--to F]
+//!            [--points N] [--at initial|steady|TIME]
+//!                                         frequency responses: bode.csv, figures
+//! models periodic …, models fit …         periodic orbits, parameter fitting
 //! ```
+//!
+//! The analysis commands ([`analysis`]) take the model, `--set`, the solver flags and
+//! `--out` as `run` does, and write their results set (with `run.yaml` and
+//! `index.html`) into `out/<model>-<command>/` by default; a failed analysis (a
+//! singular Jacobian, no convergence) exits with status 1 and writes nothing.
 //!
 //! # Exit status
 //!
@@ -33,6 +47,7 @@
 //! Errors go to stderr, one line each (a scenario with several errors gives several
 //! lines, each `file:line:column: message`); summaries go to stdout.
 
+pub mod analysis;
 mod fmu;
 mod graph;
 mod info;
@@ -120,6 +135,24 @@ pub enum Command {
         #[arg(long)]
         svg: bool,
     },
+    /// Find the model's equilibrium (dx/dt = 0, inputs held) by Newton's method on the
+    /// exact Jacobian, from the initial state or a guess; writes steady.yaml.
+    ///
+    /// A singular Jacobian (a free rigid-body motion, an integrator in a loop) is an
+    /// error naming the states it leaves undetermined: hold them (`--hold`) or add
+    /// what fixes them.
+    Steady(Box<analysis::steady::SteadyArgs>),
+    /// The linear model dx = A dx + B du, dy = C dx + D du at an operating point,
+    /// exact by dual numbers, with its modes; writes linear.json, A.csv–D.csv,
+    /// linear.m, modes.csv and the eigenvalue plane.
+    Linearize(Box<analysis::linearize::LinearizeArgs>),
+    /// Frequency responses H(jω) = C (jωI − A)⁻¹ B + D from inputs to outputs at an
+    /// operating point; writes bode.csv and the magnitude and phase figures.
+    Bode(Box<analysis::bode::BodeArgs>),
+    /// The periodic steady state of a periodically driven model.
+    Periodic(Box<analysis::periodic::PeriodicArgs>),
+    /// Fit parameters to measured signals.
+    Fit(Box<analysis::fit::FitArgs>),
 }
 
 /// The arguments of `models run`.
@@ -354,5 +387,10 @@ pub fn execute(cli: Cli, catalogue: &'static Catalogue) -> Result<(), Failure> {
         Some(Command::Merge { dirs, out }) => run::merge(&dirs, out),
         Some(Command::Graph { model, svg }) => graph::graph(catalogue, &model, svg),
         Some(Command::Fmu { model, out }) => fmu::fmu(catalogue, &model, out),
+        Some(Command::Steady(args)) => analysis::steady::steady(&args, catalogue),
+        Some(Command::Linearize(args)) => analysis::linearize::linearize(&args, catalogue),
+        Some(Command::Bode(args)) => analysis::bode::bode(&args, catalogue),
+        Some(Command::Periodic(args)) => analysis::periodic::periodic(&args, catalogue),
+        Some(Command::Fit(args)) => analysis::fit::fit(&args, catalogue),
     }
 }

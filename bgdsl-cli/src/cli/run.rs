@@ -12,7 +12,7 @@ use crate::scenario::{self, resolve, Job, Origin, Overrides, Plan, Scenario};
 use crate::study::shard::Shard;
 
 /// Whether the target names a scenario file rather than a model.
-fn is_scenario(target: &str) -> bool {
+pub(super) fn is_scenario(target: &str) -> bool {
     let path = Path::new(target);
     path.is_file()
         || matches!(

@@ -11,7 +11,7 @@ use serde::de::DeserializeOwned;
 
 use super::{html, with_unit, AnalysisFailure, AnalysisSet, DataFile, Figure};
 use crate::catalog::{column_unit, initial_state, params_from, Entry, RunPlan};
-use crate::plot::{ChartOptions, LineChart, SeriesStyle, Series};
+use crate::plot::{ChartOptions, LineChart, Series, SeriesStyle};
 
 /// A parameter value to fit, by name (`resistance`, `l1[0]`), with its bounds.
 #[derive(Clone, Debug, PartialEq)]
@@ -456,7 +456,12 @@ pub fn results_set(
     let rms: Vec<String> = report
         .residual_rms
         .iter()
-        .map(|(name, rms)| format!("{name} {}", with_unit(*rms, column_unit(&*entry.model, name).0)))
+        .map(|(name, rms)| {
+            format!(
+                "{name} {}",
+                with_unit(*rms, column_unit(&*entry.model, name).0)
+            )
+        })
         .collect();
     summary.push_str(&format!("residual RMS   {}\n", rms.join(", ")));
     let n = report.parameters.len();
@@ -474,7 +479,9 @@ pub fn results_set(
     if !pairs.is_empty() {
         summary.push_str(&format!("correlation    {}\n", pairs.join(", ")));
     }
-    summary.push_str("files          fit.json, fit.yaml, fitted.csv, fitted.yaml (run it with `run`)\n");
+    summary.push_str(
+        "files          fit.json, fit.yaml, fitted.csv, fitted.yaml (run it with `run`)\n",
+    );
 
     let figures = data
         .names
@@ -518,7 +525,10 @@ pub fn results_set(
         let mut entry = serde_yaml::Mapping::new();
         entry.insert("estimate".into(), p.value.into());
         entry.insert("standard_error".into(), p.standard_error.into());
-        entry.insert("bounds".into(), serde_yaml::to_value([b.lower, b.upper]).unwrap_or_default());
+        entry.insert(
+            "bounds".into(),
+            serde_yaml::to_value([b.lower, b.upper]).unwrap_or_default(),
+        );
         estimates.insert(p.name.clone().into(), entry.into());
     }
     record.insert("parameters".into(), estimates.into());
@@ -538,7 +548,13 @@ pub fn results_set(
 
 /// Column `c`'s figure: the measurements (+), the model with the starting values
 /// (dashed) and fitted (solid).
-fn column_figure(entry: &Entry, data: &Measurements, found: &FitFound, c: usize, name: &str) -> Figure {
+fn column_figure(
+    entry: &Entry,
+    data: &Measurements,
+    found: &FitFound,
+    c: usize,
+    name: &str,
+) -> Figure {
     let (unit, _) = column_unit(&*entry.model, name);
     let measured: Vec<(f64, f64)> = data
         .times
@@ -549,7 +565,9 @@ fn column_figure(entry: &Entry, data: &Measurements, found: &FitFound, c: usize,
         .collect();
     let (lo, hi) = measured
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, v)| (lo.min(v), hi.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, v)| {
+            (lo.min(v), hi.max(v))
+        });
     let dy = 0.012 * (hi - lo).abs().max(1e-300);
     let span = data.times[data.times.len() - 1] - data.times[0];
     let dx = 0.004 * span;
@@ -564,7 +582,12 @@ fn column_figure(entry: &Entry, data: &Measurements, found: &FitFound, c: usize,
             (f64::NAN, f64::NAN),
         ]);
     }
-    let start: Vec<(f64, f64)> = data.times.iter().copied().zip(found.before[c].iter().copied()).collect();
+    let start: Vec<(f64, f64)> = data
+        .times
+        .iter()
+        .copied()
+        .zip(found.before[c].iter().copied())
+        .collect();
     let fitted: Vec<(f64, f64)> = found
         .curve_times
         .iter()

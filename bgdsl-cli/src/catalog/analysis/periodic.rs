@@ -113,15 +113,16 @@ where
     let mut rows = Vec::with_capacity(times.len());
     let mut sim =
         Simulation::new(&model, options.solver).map_err(|e| failure(PeriodicError::from(e)))?;
-    sim.run(t0, &orbit.x0, &times, &mut |_t: f64, x: &[f64], y: &[f64]| {
-        rows.push(columns.iter().map(|c| c.value(x, y)).collect())
-    })
+    sim.run(
+        t0,
+        &orbit.x0,
+        &times,
+        &mut |_t: f64, x: &[f64], y: &[f64]| {
+            rows.push(columns.iter().map(|c| c.value(x, y)).collect())
+        },
+    )
     .map_err(|e| failure(PeriodicError::from(e)))?;
-    Ok(PeriodicFound {
-        orbit,
-        times,
-        rows,
-    })
+    Ok(PeriodicFound { orbit, times, rows })
 }
 
 /// How far a multiplier's modulus may be from 1 and still count as neutral: the
@@ -252,7 +253,11 @@ pub fn floquet_json(model: &str, state_names: &[&str], orbit: &PeriodicOrbit) ->
         residual: orbit.residual,
         neutral_residual: orbit.neutral_residual,
         periods_integrated: orbit.periods_integrated,
-        initial_state: state_names.iter().copied().zip(orbit.x0.iter().copied()).collect(),
+        initial_state: state_names
+            .iter()
+            .copied()
+            .zip(orbit.x0.iter().copied())
+            .collect(),
         neutral: NeutralFile {
             dimension: orbit.neutral.dimension,
             singular_values: orbit.neutral.singular_values.clone(),
@@ -329,7 +334,12 @@ fn units_csv(entry: &Entry, names: &[String]) -> String {
     for name in core::iter::once("t").chain(names.iter().map(String::as_str)) {
         let (unit, doc) = column_unit(&*entry.model, name);
         let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
-        text.push_str(&format!("{},{},{}\n", field(name), field(unit), field(&doc)));
+        text.push_str(&format!(
+            "{},{},{}\n",
+            field(name),
+            field(unit),
+            field(&doc)
+        ));
     }
     text
 }
@@ -471,10 +481,7 @@ pub fn results_set(
             re.hypot(im)
         ));
     }
-    table.push_str(&format!(
-        "</table><p>{}.</p>",
-        html(&stability.describe())
-    ));
+    table.push_str(&format!("</table><p>{}.</p>", html(&stability.describe())));
 
     let mut record = Mapping::new();
     record.insert("period".into(), orbit.period.into());

@@ -146,7 +146,12 @@ fn apply_bounds(bounds: &mut [FitBound], flags: &[String]) -> Result<(), Failure
         let bound = bounds
             .iter_mut()
             .find(|b| b.name == name.trim())
-            .ok_or_else(|| usage(&format!("`{}` is not fitted (add it to --fit)", name.trim())))?;
+            .ok_or_else(|| {
+                usage(&format!(
+                    "`{}` is not fitted (add it to --fit)",
+                    name.trim()
+                ))
+            })?;
         bound.lower = lower;
         bound.upper = upper;
     }

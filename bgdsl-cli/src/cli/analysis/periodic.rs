@@ -79,7 +79,8 @@ fn period(args: &PeriodicArgs, entry: &Entry, plan: &RunPlan) -> Result<(f64, St
                 .iter()
                 .find(|p| p.name == name.as_str())
                 .ok_or_else(|| {
-                    let names: Vec<&str> = entry.model.parameters().iter().map(|p| p.name).collect();
+                    let names: Vec<&str> =
+                        entry.model.parameters().iter().map(|p| p.name).collect();
                     Failure::Usage(format!(
                         "--drive {name}: the model {} has no parameter `{name}`; its \
                          parameters: {}",
@@ -98,13 +99,14 @@ fn period(args: &PeriodicArgs, entry: &Entry, plan: &RunPlan) -> Result<(f64, St
                 Failure::Usage(format!(
                     "--drive {name}: `{name}` is in {}, not a frequency (rad/s, Hz) or a \
                      period (s); give the period with --period T",
-                    if info.unit.is_empty() { "no unit" } else { info.unit }
+                    if info.unit.is_empty() {
+                        "no unit"
+                    } else {
+                        info.unit
+                    }
                 ))
             })?;
-            (
-                period,
-                format!("from {name} = {value} {}", info.unit),
-            )
+            (period, format!("from {name} = {value} {}", info.unit))
         }
         (None, None) => {
             return Err(Failure::Usage(format!(
