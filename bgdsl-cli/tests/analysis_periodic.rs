@@ -10,6 +10,13 @@
 //! - `floquet.json`'s multipliers are `e^{λ T}` for the eigenvalues `λ = −c/2m ± i
 //!   √(k/m − (c/2m)²)` of the state matrix and `T = 2π/ω`, to 1e-6 (the monodromy
 //!   matrix's integration error is about 1e-8).
+//! - On the catalogue's (non-linear) Duffing oscillator, `ṗ = −k q − k3 q³ − c p/m +
+//!   F cos ω t`, `q̇ = p/m`: the trace of the Jacobian is `−c/m` everywhere, so by
+//!   Liouville's formula the product of the multipliers is `det Φ = e^{−c T/m}` on any
+//!   orbit (to 2e-5 relative: the monodromy matrix comes from the library's SDIRK
+//!   integration of the variational equations, 400 steps per period, which misses
+//!   Liouville's value by 6e-6 relative here); `orbit.csv`'s last row equals its first to the shooting's
+//!   tolerance (1e-4 of the states' scale); and the figures and page are written.
 //! - The period comes from `--drive omega` (a parameter in rad/s: `T = 2π/ω`) or
 //!   `--period`; without either, or with a drive parameter of another unit, the
 //!   command refuses with a message saying what to give.
@@ -50,6 +57,9 @@ bond_graph! {
 
 static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| bgdsl_cli::catalogue![Forced]);
 
+/// The program's own catalogue (`models`).
+static MODELS: LazyLock<Catalogue> = LazyLock::new(models::catalog::catalogue);
+
 /// A fresh scratch folder (removed when dropped).
 struct Scratch(PathBuf);
 
@@ -83,11 +93,18 @@ fn args(out: &Path, set: &[&str]) -> PeriodicArgs {
 }
 
 fn periodic(args: PeriodicArgs) -> Result<(), bgdsl_cli::cli::Failure> {
+    periodic_in(args, &CATALOGUE)
+}
+
+fn periodic_in(
+    args: PeriodicArgs,
+    catalogue: &'static Catalogue,
+) -> Result<(), bgdsl_cli::cli::Failure> {
     execute(
         Cli {
             command: Some(Command::Periodic(Box::new(args))),
         },
-        &CATALOGUE,
+        catalogue,
     )
 }
 
@@ -202,4 +219,67 @@ fn the_period_is_required_and_a_drive_parameter_must_be_a_frequency() {
     let message = periodic(a).unwrap_err().to_string();
     assert!(message.contains("positive"), "{message}");
     assert!(!out.exists(), "nothing is written");
+}
+
+#[test]
+fn the_catalogue_duffing_orbit_closes_and_its_multipliers_obey_liouville() {
+    let scratch = Scratch::new("duffing");
+    let out = scratch.0.join("orbit");
+    let mut a = args(&out, &[]);
+    a.model.target = "duffing".to_owned();
+    a.model.no_plots = false;
+    a.drive = Some("omega".to_owned());
+    a.warmup = 5;
+    a.points = 100;
+    periodic_in(a, &MODELS).unwrap();
+
+    // The catalogue's defaults: m = 1 kg, c = 0.1 N·s/m, ω = 1.2 rad/s.
+    let (m, c, w) = (1.0f64, 0.1f64, 1.2f64);
+    let period = core::f64::consts::TAU / w;
+    let floquet: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("floquet.json")).unwrap()).unwrap();
+    let pairs: Vec<(f64, f64)> = floquet["multipliers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+        .collect();
+    assert_eq!(pairs.len(), 2);
+    // The product of a conjugate pair or of two real multipliers.
+    let product = (
+        pairs[0].0 * pairs[1].0 - pairs[0].1 * pairs[1].1,
+        pairs[0].0 * pairs[1].1 + pairs[0].1 * pairs[1].0,
+    );
+    let liouville = (-c * period / m).exp();
+    assert!(
+        (product.0 / liouville - 1.0).abs() < 2e-5 && product.1.abs() < 1e-12,
+        "det Φ = {product:?}, e^(−cT/m) = {liouville}"
+    );
+    assert_eq!(floquet["stability"], "attracting");
+
+    let (header, rows) = read_csv(&out.join("orbit.csv"));
+    assert_eq!(&header[..3], ["t", "mass.p", "spring.q"]);
+    let (first, last) = (&rows[0], &rows[rows.len() - 1]);
+    assert!((last[0] - first[0] - period).abs() < 1e-12);
+    let scale = first[1].abs().max(first[2].abs());
+    for i in 1..=2 {
+        let tolerance = 1e-4 * (first[i].abs() + 1e-3 * scale);
+        assert!(
+            (last[i] - first[i]).abs() <= tolerance,
+            "{}: {} → {}",
+            header[i],
+            first[i],
+            last[i]
+        );
+    }
+    for name in [
+        "floquet_multipliers.svg",
+        "orbit_x.png",
+        "orbit_spring_q.svg",
+        "index.html",
+    ] {
+        assert!(out.join(name).is_file(), "{name} missing");
+    }
+    let page = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains("Floquet multipliers") && page.contains("inside the unit circle"));
 }
