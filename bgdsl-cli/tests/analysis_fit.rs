@@ -170,7 +170,12 @@ fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
     let (csv, sigma) = measurements();
     fs::write(&data, csv).unwrap();
     let out = scratch.0.join("fit");
-    fit(args(&data, &out)).unwrap();
+    let mut a = args(&data, &out);
+    a.model.no_plots = false;
+    fit(a).unwrap();
+    for name in ["fit_current.svg", "fit_speed.png", "index.html", "run.yaml"] {
+        assert!(out.join(name).is_file(), "{name} missing");
+    }
 
     let summary: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
