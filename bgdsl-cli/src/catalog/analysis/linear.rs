@@ -170,30 +170,31 @@ fn eigenvalue_figure(linear: &LinearModel, modes: &[Mode]) -> Figure {
             }
         })
         .collect();
-    let extent = points
-        .iter()
-        .flat_map(|&(x, y)| [x.abs(), y.abs()])
-        .fold(0.0f64, f64::max)
-        .max(1e-12);
-    // Crosses of a fixed fraction of the plot, drawn as two strokes between gaps.
-    let d = 0.02 * extent;
+    // The imaginary axis is always in view; the real one too.
+    let x_lo = points.iter().map(|p| p.0).fold(0.0f64, f64::min);
+    let x_hi = points.iter().map(|p| p.0).fold(0.0f64, f64::max);
+    let x_span = (x_hi - x_lo).max(1e-12);
+    let x_range = (x_lo - 0.1 * x_span, x_hi + 0.1 * x_span);
+    let y_extent = match points.iter().map(|p| p.1.abs()).fold(0.0f64, f64::max) {
+        y if y > 0.0 => y,
+        _ => 0.5 * x_span,
+    };
+    let range = (-1.15 * y_extent, 1.15 * y_extent);
+    // Crosses of a fixed fraction of the plot each way, two strokes between gaps.
+    let dx = 0.012 * (x_range.1 - x_range.0);
+    let dy = 0.02 * (range.1 - range.0);
     let mut crosses = Vec::new();
     for &(x, y) in &points {
         crosses.extend([
-            (x - d, y - d),
-            (x + d, y + d),
+            (x - dx, y - dy),
+            (x + dx, y + dy),
             (f64::NAN, f64::NAN),
-            (x - d, y + d),
-            (x + d, y - d),
+            (x - dx, y + dy),
+            (x + dx, y - dy),
             (f64::NAN, f64::NAN),
         ]);
     }
     let axis = |from: (f64, f64), to: (f64, f64)| vec![from, to];
-    let range = (-1.1 * extent, 1.1 * extent);
-    let x_range = (
-        points.iter().map(|p| p.0).fold(0.0f64, f64::min) - 0.1 * extent,
-        points.iter().map(|p| p.0).fold(0.0f64, f64::max) + 0.1 * extent,
-    );
     Figure {
         id: EIGENVALUE_FIGURE.to_owned(),
         title: format!("Eigenvalues of A: {}", linear.model),

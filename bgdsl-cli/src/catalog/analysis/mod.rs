@@ -18,6 +18,7 @@
 //!   and the headline numbers;
 //! - figures through [`crate::plot`], `index.html` through [`crate::report`].
 
+pub mod bode;
 pub mod fit;
 pub mod linear;
 pub mod periodic;

@@ -195,9 +195,14 @@ pub fn results_set(entry: &Entry, result: &SteadyResult) -> AnalysisSet {
         .unwrap_or(0)
         .max(6);
     let mut summary = format!(
-        "model          {}: {}\nequilibrium    {} Newton iterations, Jacobian {JACOBIAN}, largest \
-         rate {:.3e} (t = {} s)\n",
-        entry.name, entry.description, result.iterations, result.residual, result.t
+        "model          {}: {}\nequilibrium    {} Newton iteration{}, Jacobian {JACOBIAN}, \
+         largest rate {:.3e} (t = {} s)\n",
+        entry.name,
+        entry.description,
+        result.iterations,
+        if result.iterations == 1 { "" } else { "s" },
+        result.residual,
+        result.t
     );
     let mut rows = String::new();
     for (i, name) in states.iter().enumerate() {

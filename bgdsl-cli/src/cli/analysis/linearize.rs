@@ -17,7 +17,12 @@ pub struct PointArgs {
     /// (the equilibrium found from it, as `models steady` finds it) or a time in
     /// seconds (the state a run from the initial state reaches then, with the model's
     /// or the scenario's solver).
-    #[arg(long, value_name = "initial|steady|TIME", default_value = "initial")]
+    #[arg(
+        long,
+        value_name = "initial|steady|TIME",
+        default_value = "initial",
+        allow_hyphen_values = true
+    )]
     pub at: OperatingPoint,
     /// For `--at steady`: start Newton's method with this state at this value
     /// (repeatable), as `models steady --guess`.
