@@ -24,25 +24,50 @@
 //!   a multiplier 1 whose direction shifts the coordinate; name them as [`Shift`]s when
 //!   they advance by a known amount per period.
 //!
-//! Newton's step is taken in state variables scaled by their magnitudes and solved by
-//! a singular value decomposition that leaves out the singular values of `Φ − I` below
-//! [`PeriodicOptions::neutral_tolerance`]: it moves nothing along the neutral
-//! directions (the minimum-norm correction), which the residual's components along
-//! them cannot move either (they vanish to second order). The result reports the
-//! neutral subspace's dimension and the states it is made of.
+//! Newton's step is taken in the unknowns (`coordinates.rs`: rotations as three
+//! angles, free states left out), scaled, and restricted to the range of `Φ_z − I`
+//! (`newton.rs`): it changes neither the model's first integrals nor the orbit's
+//! asymptotic phase to first order, so the orbit found is the one a run from the
+//! starting state settles on, at the same times. Singular values of `Φ_z − I` below
+//! [`PeriodicOptions::neutral_tolerance`] are neutral: left out of the step and of the
+//! convergence test (the residual along them is reported as `neutral_residual`).
+//! Newton's first step still moves the first integrals to second order, by about the
+//! square of the residual it starts from: so plain periods are run first while they
+//! settle fast ([`PeriodicOptions::max_settle_periods`]).
+//!
+//! The multipliers are the eigenvalues of `Φ_z` (balancing and a Francis QR iteration
+//! of our own, `eigen.rs`: nalgebra's Schur cycles on the quick return's cluster at 1).
+//! Their accuracy is that of `Φ`'s integration ([`PeriodicOptions::steps`]): where
+//! the exactly neutral multipliers form non-trivial Jordan blocks (a free spin: its
+//! angle grows with its momentum), an error `ε` of `Φ` moves them by about `√ε`.
 
 mod coordinates;
+mod eigen;
 mod floquet;
+mod newton;
 
 pub use floquet::NeutralDirections;
+
+/// The eigenvalues of a small dense real matrix (a monodromy matrix or a block of
+/// one), in no particular order: balancing, Hessenberg reduction and the Francis
+/// double-shift QR iteration with exceptional shifts. `None` when the iteration has not
+/// converged after 30 sweeps per eigenvalue.
+pub fn eigenvalues(matrix: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
+    if !matrix.is_square() {
+        return None;
+    }
+    eigen::eigenvalues(matrix)
+}
 
 use core::fmt;
 
 use bgdsl_runtime::{Model, Radau5Options, Simulation, Solver};
-use nalgebra::{Complex, DMatrix};
+use nalgebra::{Complex, DMatrix, DVector};
 
 use crate::error::AnalysisError;
 use crate::sensitivity::variational::{propagate, Homogeneous};
+use coordinates::Coordinates;
+use newton::Defect;
 
 /// A state that is periodic modulo an advance per period: `x_i(t₀ + T) = x_i(t₀) +
 /// per_period` on the orbit (a crank angle held as a state: `2π` per turn).
@@ -91,20 +116,33 @@ pub struct PeriodicOptions {
     pub steps: usize,
     /// The solver of the state (default: Radau5 at `rtol` 1e-9, `atol` 1e-11).
     pub solver: Solver,
-    /// Converged when every `|x_i(t₀ + T) − x_i(t₀) − s_i|` is at most `tolerance`
-    /// times the state's scale `|x_i| + 1e-3 max_j |x_j|` (default 1e-4: the period
-    /// map's own integration error, set by the solver's tolerances, is the floor; on the
-    /// quick return it is about 1e-5 so measured).
+    /// Converged when the residual over a period outside the neutral directions, in
+    /// the unknowns (a rotation's in radians, its vector `log(Rᵀ R_end)`; a state's
+    /// `x_i(t₀ + T) − x_i(t₀) − s_i`), is at most `tolerance` times the unknown's
+    /// scale: 1 rad for a rotation, `peak_i + 1e-3 max_j peak_j` for a state, `peak`
+    /// its largest magnitude over the period (default 1e-6; the period map's own
+    /// integration error is the floor: on the quick return, at the default solver,
+    /// Newton stalls at 1e-8 to 4e-8).
     pub tolerance: f64,
     /// Newton iterations at most (default 20).
     pub max_iterations: usize,
     /// Periods simulated from the guess before Newton starts (default 0).
     pub warmup_periods: usize,
-    /// Singular values of the scaled `Φ − I` (in the unknowns) below this are neutral
-    /// directions, left out of the Newton step and of the convergence test (default
-    /// 1e-6: the exactly neutral ones, which come out at 1e-8 or less on the quick
-    /// return; a larger value also drops slowly attracting directions, and the orbit
-    /// found may then be off the attracting one along them).
+    /// After the warm-up, further periods simulated while each at least halves the
+    /// state's change over a period and that change (relative to the states'
+    /// magnitudes) is above `√tolerance`, at most this many (default 20; 0: none). Newton's
+    /// first step moves the model's first integrals (and the orbit's phase) by about
+    /// the square of the residual it starts from (see `newton.rs`): on the quick
+    /// return, from the residual after 2 periods (5e-2) the orbit's rocker ended 3e-5
+    /// rad off the long run's; after 5 (1e-3), 5e-7 of the states' magnitudes.
+    pub max_settle_periods: usize,
+    /// Singular values of the scaled `Φ_z − I` (in the unknowns) below this are
+    /// neutral directions, left out of the Newton step and of the convergence test
+    /// (default 1e-4: above the monodromy matrix's integration error at the default
+    /// 400 steps, which puts the exactly neutral directions of the quick return at up
+    /// to 1.6e-5, and below its slowest physical one, 2.9e-3; off the orbit the
+    /// threshold is raised to a tenth of the residual, by which the neutral singular
+    /// values move there).
     pub neutral_tolerance: f64,
 }
 
@@ -120,10 +158,11 @@ impl PeriodicOptions {
                 atol: 1e-11,
                 ..Default::default()
             }),
-            tolerance: 1e-4,
+            tolerance: 1e-6,
             max_iterations: 20,
             warmup_periods: 0,
-            neutral_tolerance: 1e-6,
+            max_settle_periods: 20,
+            neutral_tolerance: 1e-4,
         }
     }
 }
@@ -239,70 +278,92 @@ fn period_map<M: Model>(
     Ok(end)
 }
 
-/// One period from `x0` with the monodromy matrix.
+/// The neutral threshold's share of the largest scaled residual (see the Newton loop).
+const NEUTRAL_PER_RESIDUAL: f64 = 0.1;
+
+/// Nodes of the period at which the monodromy run samples the state for its scales.
+const SCALE_NODES: usize = 20;
+
+/// The end state of a period, `Φ`, and each state's largest magnitude over it.
+type Monodromy = (Vec<f64>, DMatrix<f64>, Vec<f64>);
+
+/// The free states, the unknowns without them, and the shifts as (unknown, advance).
+type Setup = (Vec<bool>, Coordinates, Vec<(usize, f64)>);
+
+/// One period from `x0` with the monodromy matrix: the end state, `Φ`, and each
+/// state's largest magnitude over the period (at [`SCALE_NODES`] times).
 fn period_map_with_monodromy<M: Model>(
     model: &M,
     options: &PeriodicOptions,
     x0: &[f64],
-) -> Result<(Vec<f64>, DMatrix<f64>), PeriodicError> {
+) -> Result<Monodromy, PeriodicError> {
     let n = x0.len();
     let mut phi = DMatrix::<f64>::identity(n, n);
-    let grid = [options.t0, options.t0 + options.period];
+    let nodes = SCALE_NODES.min(options.steps.max(1));
+    let grid: Vec<f64> = (0..=nodes)
+        .map(|k| options.t0 + options.period * k as f64 / nodes as f64)
+        .collect();
+    let substeps = options.steps.max(1).div_ceil(nodes);
     let mut end = x0.to_vec();
+    let mut peak: Vec<f64> = x0.iter().map(|v| v.abs()).collect();
     propagate(
         model,
-        (options.solver, options.steps),
+        (options.solver, substeps),
         x0,
         &grid,
         &mut phi,
         &mut Homogeneous,
         |k, x, _| {
-            if k == 1 {
+            for (p, v) in peak.iter_mut().zip(x) {
+                *p = p.max(v.abs());
+            }
+            if k == nodes {
                 end.copy_from_slice(x)
             }
         },
     )?;
-    Ok((end, phi))
+    Ok((end, phi, peak))
 }
 
-/// The states' scales: `|x_i| + 1e-3 max_j |x_j|` (never zero unless `x` is).
-fn scales(x: &[f64]) -> Vec<f64> {
+/// The states' scales from their largest magnitudes over a period: `peak_i + 1e-3
+/// max_j peak_j` (never zero unless every state is).
+fn scales(peak: &[f64]) -> Vec<f64> {
+    let big = peak.iter().fold(0.0f64, |m, v| m.max(*v));
+    let floor = if big > 0.0 { 1e-3 * big } else { 1.0 };
+    peak.iter().map(|v| v + floor).collect()
+}
+
+/// The largest change from `x` to `y` relative to `|x_i| + 1e-3 max_j |x_j|`.
+fn relative_change(x: &[f64], y: &[f64]) -> f64 {
     let big = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let floor = if big > 0.0 { 1e-3 * big } else { 1.0 };
-    x.iter().map(|v| v.abs() + floor).collect()
+    x.iter()
+        .zip(y)
+        .fold(0.0f64, |m, (a, b)| m.max((b - a).abs() / (a.abs() + floor)))
 }
 
-/// The residual `P(x₀) − x₀ − s`, and its largest scaled entry with its index.
-/// Free states (`free[i]`) are left out: their residual is zero.
-fn residual(
+/// The scaled residual in the unknowns: `S⁻¹ (z(P(x)) − z(x) − s)`.
+fn scaled_residual(
+    coordinates: &Coordinates,
+    x: &[f64],
     end: &[f64],
-    x0: &[f64],
-    shifts: &[Shift],
-    free: &[bool],
-    d: &[f64],
-) -> (Vec<f64>, f64, usize) {
-    let mut r: Vec<f64> = end.iter().zip(x0).map(|(e, x)| e - x).collect();
-    for s in shifts {
-        r[s.state] -= s.per_period;
+    shifts: &[(usize, f64)],
+    s: &[f64],
+) -> Vec<f64> {
+    let mut r = coordinates.difference(x, end);
+    for &(k, per_period) in shifts {
+        r[k] -= per_period;
     }
-    for (ri, &f) in r.iter_mut().zip(free) {
-        if f {
-            *ri = 0.0;
-        }
-    }
-    let (mut worst, mut at) = (0.0, 0);
-    for (i, (ri, di)) in r.iter().zip(d).enumerate() {
-        let v = (ri / di).abs();
-        if v > worst || v.is_nan() {
-            worst = v;
-            at = i;
-        }
-    }
-    (r, worst, at)
+    r.iter().zip(s).map(|(ri, si)| ri / si).collect()
 }
 
 /// The periodic orbit of `model` through a state near `guess`, with period and
 /// tolerances from `options`, periodic modulo `shifts`.
+///
+/// The orbit found is the one a long run from `guess` (after the warm-up) settles on,
+/// at the time it would be there (`t₀` plus whole periods): Newton's steps keep the
+/// model's first integrals and the asymptotic phase (see `newton.rs`). A shift of a
+/// state inside a rotation matrix or of a free state is ignored.
 ///
 /// # Errors
 /// [`PeriodicError::BadPeriod`]; [`PeriodicError::Analysis`] when a simulation fails or
@@ -336,44 +397,62 @@ pub fn periodic_orbit<M: Model>(
     }
     let mut x = guess.to_vec();
     let mut periods = 0;
-    for _ in 0..options.warmup_periods {
+    let mut change = f64::INFINITY;
+    for k in 0..options.warmup_periods + options.max_settle_periods {
         let mut end = period_map(model, options, &x)?;
         for s in shifts {
             end[s.state] -= s.per_period;
         }
+        // Settling: on while a period at least halves the change over a period, down
+        // to the square root of the tolerance (what Newton's first step then moves of
+        // the first integrals is of the order of the tolerance).
+        let now = relative_change(&x, &end);
+        let settling = now <= 0.5 * change && now > options.tolerance.sqrt();
+        if k >= options.warmup_periods && !settling {
+            break;
+        }
+        change = now;
         x = end;
         periods += 1;
     }
     let mut last = (0.0, 0);
     let mut mu = 0.0;
-    let mut free: Vec<bool> = Vec::new();
-    let coordinates = coordinates::Coordinates::new::<M>();
+    let mut setup: Option<Setup> = None;
     for iteration in 0..=options.max_iterations {
-        let (end, phi) = period_map_with_monodromy(model, options, &x)?;
+        let (end, phi, peak) = period_map_with_monodromy(model, options, &x)?;
         periods += 1;
-        let d = scales(&x);
-        if free.is_empty() {
-            free = free_states(&phi, shifts);
-        }
-        // D⁻¹ (Φ − I) E S: the residual's change per scaled unknown.
-        let dz = coordinates.scales(&d);
-        let embedding = coordinates.embedding(&x);
-        let mut defect = &phi * &embedding - &embedding;
-        for (i, di) in d.iter().enumerate() {
-            for (j, sj) in dz.iter().enumerate() {
-                defect[(i, j)] *= sj / di;
+        let (free, coordinates, shifted) = setup.get_or_insert_with(|| {
+            let free = free_states(&phi, shifts);
+            let coordinates = Coordinates::new::<M>(&free);
+            let shifted = shifts
+                .iter()
+                .filter_map(|s| Some((coordinates.unknown_of_state(s.state)?, s.per_period)))
+                .collect();
+            (free, coordinates, shifted)
+        });
+        let d = scales(&peak);
+        let s = coordinates.scales(|i| d[i]);
+        // A = S⁻¹ (Φ_z − I) S: the scaled residual's change per scaled unknown.
+        let mut a = coordinates.reduce(&phi, &x, &end);
+        for (i, si) in s.iter().enumerate() {
+            a[(i, i)] -= 1.0;
+            for (j, sj) in s.iter().enumerate() {
+                a[(i, j)] *= sj / si;
             }
         }
-        for (i, _) in free.iter().enumerate().filter(|(_, &f)| f) {
-            defect.row_mut(i).fill(0.0);
-        }
-        let svd = defect.svd(true, true);
-        let neutral_left = neutral_left_vectors(&svd, options.neutral_tolerance);
-        let (r, _, _) = residual(&end, &x, shifts, &free, &d);
-        let (err, worst, err_neutral) = split_residual(&r, &d, &neutral_left);
-        last = (err, worst);
+        let r = scaled_residual(coordinates, &x, &end, shifted, &s);
+        // Off the orbit the neutral directions' singular values are off zero by about
+        // the distance to it (a first integral's gradient at the start and at the end
+        // of the period differ by that much): a threshold that follows the residual.
+        let size = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let defect = Defect::new(
+            a,
+            options.neutral_tolerance.max(NEUTRAL_PER_RESIDUAL * size),
+        );
+        let (err, worst, err_neutral) = defect.split(&r);
+        last = (err, coordinates.state_of(worst));
         if err <= options.tolerance {
-            let neutral = floquet::neutral_directions(model, options, &x, &phi, &d);
+            let neutral = floquet::neutral_directions(model, options, &x, coordinates, &defect, &s);
             let free_states = free
                 .iter()
                 .enumerate()
@@ -384,7 +463,7 @@ pub fn periodic_orbit<M: Model>(
                     drift: end[i] - x[i],
                 })
                 .collect();
-            let multipliers = floquet::multipliers(&coordinates.reduce(&phi, &x));
+            let multipliers = floquet::multipliers(&defect.a);
             return Ok(PeriodicOrbit {
                 t0: options.t0,
                 period: options.period,
@@ -403,21 +482,39 @@ pub fn periodic_orbit<M: Model>(
         if iteration == options.max_iterations {
             break;
         }
+        let mut end_shifted = end.clone();
+        for sh in shifts {
+            end_shifted[sh.state] -= sh.per_period;
+        }
         // Levenberg–Marquardt damping of the Newton step: directions with singular
         // values below `mu` are shortened (gradient-like); `mu` grows while a step
         // fails to lower the residual and shrinks after one that does.
         let mut next: Vec<f64>;
         loop {
-            let step = damped_step(&svd, &r, &d, &dz, options.neutral_tolerance, mu);
-            next = coordinates.apply(&x, &step);
+            let step = defect.step(&r, mu);
+            next = if mu == 0.0 {
+                // x + δ to first order, but reached from the period's end by `Φ δ`:
+                // that is the shorter move where `Φ` contracts, and what a move
+                // changes of the first integrals to second order shrinks with its
+                // square (a tenth on the quick return, whose slowest in-plane
+                // multiplier is 0.29).
+                let moved = &defect.a * DVector::from_column_slice(&step);
+                let dz: Vec<f64> = (0..step.len())
+                    .map(|k| (moved[k] + step[k]) * s[k])
+                    .collect();
+                coordinates.apply(&end_shifted, &dz)
+            } else {
+                let dz: Vec<f64> = step.iter().zip(&s).map(|(y, si)| y * si).collect();
+                coordinates.apply(&x, &dz)
+            };
             periods += 1;
             // A step that leaves the model's domain (a rotation no longer one) is too
             // long: shorten it.
             let err_next = match period_map(model, options, &next) {
                 Ok(end) => {
-                    let dn = scales(&next);
-                    let (rn, _, _) = residual(&end, &next, shifts, &free, &dn);
-                    split_residual(&rn, &dn, &neutral_left).0
+                    defect
+                        .split(&scaled_residual(coordinates, &next, &end, shifted, &s))
+                        .0
                 }
                 Err(_) => f64::INFINITY,
             };
@@ -437,74 +534,4 @@ pub fn periodic_orbit<M: Model>(
         residual: last.0 / options.tolerance,
         worst_state: M::STATE_NAMES.get(last.1).copied().unwrap_or("?"),
     })
-}
-
-/// The left singular vectors of the neutral directions (singular values at most
-/// `neutral`).
-fn neutral_left_vectors(
-    svd: &nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
-    neutral: f64,
-) -> Vec<Vec<f64>> {
-    let Some(u) = &svd.u else {
-        return Vec::new();
-    };
-    svd.singular_values
-        .iter()
-        .enumerate()
-        .filter(|(_, &sigma)| sigma <= neutral)
-        .map(|(k, _)| u.column(k).iter().copied().collect())
-        .collect()
-}
-
-/// The scaled residual split into its part outside the neutral directions (largest
-/// entry, and where) and inside them (largest entry): Newton can remove only the first.
-fn split_residual(r: &[f64], d: &[f64], neutral_left: &[Vec<f64>]) -> (f64, usize, f64) {
-    let mut outside: Vec<f64> = r.iter().zip(d).map(|(ri, di)| ri / di).collect();
-    let scaled = outside.clone();
-    for u in neutral_left {
-        let c: f64 = u.iter().zip(&scaled).map(|(a, b)| a * b).sum();
-        for (o, ui) in outside.iter_mut().zip(u) {
-            *o -= c * ui;
-        }
-    }
-    let (mut worst, mut at) = (0.0, 0);
-    for (i, v) in outside.iter().enumerate() {
-        if v.abs() > worst || v.is_nan() {
-            worst = v.abs();
-            at = i;
-        }
-    }
-    let inside = scaled
-        .iter()
-        .zip(&outside)
-        .fold(0.0f64, |m, (s, o)| m.max((s - o).abs()));
-    (worst, at, inside)
-}
-
-/// The damped Newton correction for `(Φ − I) δ = −r` from the SVD of the scaled
-/// `Φ − I`: `−Σ σ/(σ² + μ²) (uᵀr) v` over the singular values above `neutral` (the
-/// neutral directions are left alone; `μ = 0` is the minimum-norm Newton step).
-fn damped_step(
-    svd: &nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
-    r: &[f64],
-    d: &[f64],
-    dz: &[f64],
-    neutral: f64,
-    mu: f64,
-) -> Vec<f64> {
-    let mut step = vec![0.0; dz.len()];
-    let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
-        return step;
-    };
-    for (k, &sigma) in svd.singular_values.iter().enumerate() {
-        if sigma <= neutral {
-            continue;
-        }
-        let projection: f64 = (0..r.len()).map(|i| u[(i, k)] * r[i] / d[i]).sum();
-        let coefficient = projection * sigma / (sigma * sigma + mu * mu);
-        for (j, s) in step.iter_mut().enumerate() {
-            *s -= coefficient * v_t[(k, j)] * dz[j];
-        }
-    }
-    step
 }
