@@ -15,8 +15,10 @@
 //!   Liouville's formula the product of the multipliers is `det Φ = e^{−c T/m}` on any
 //!   orbit (to 2e-5 relative: the monodromy matrix comes from the library's SDIRK
 //!   integration of the variational equations, 400 steps per period, which misses
-//!   Liouville's value by 6e-6 relative here); `orbit.csv`'s last row equals its first to the shooting's
-//!   tolerance (1e-4 of the states' scale); and the figures and page are written.
+//!   Liouville's value by 6e-6 relative here); `orbit.csv`'s last row equals its
+//!   first to 1e-4 of each state's scale (the shooting converges to 1e-6 of its own
+//!   scale; the samples come from a second run of the same solver); and the figures
+//!   and page are written.
 //! - The period comes from `--drive omega` (a parameter in rad/s: `T = 2π/ω`) or
 //!   `--period`; without either, or with a drive parameter of another unit, the
 //!   command refuses with a message saying what to give.
@@ -218,6 +220,16 @@ fn the_period_is_required_and_a_drive_parameter_must_be_a_frequency() {
     a.period = Some(-1.0);
     let message = periodic(a).unwrap_err().to_string();
     assert!(message.contains("positive"), "{message}");
+    let mut a = args(&out, &[]);
+    a.period = Some(1.0);
+    a.shift = vec!["theta=6.28".to_owned()];
+    let message = periodic(a).unwrap_err().to_string();
+    assert!(message.contains("no state `theta`"), "{message}");
+    let mut a = args(&out, &[]);
+    a.period = Some(1.0);
+    a.shift = vec!["spring.q=two".to_owned()];
+    let message = periodic(a).unwrap_err().to_string();
+    assert!(message.contains("not a finite number"), "{message}");
     assert!(!out.exists(), "nothing is written");
 }
 

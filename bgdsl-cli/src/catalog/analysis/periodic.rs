@@ -3,7 +3,9 @@
 //! one period of it sampled into the columns of a run, and its results set
 //! (`orbit.csv`, `floquet.json`, figures, `index.html`, `run.yaml`).
 
-use bgdsl_analysis::periodic::{periodic_orbit, PeriodicError, PeriodicOptions, PeriodicOrbit};
+use bgdsl_analysis::periodic::{
+    periodic_orbit, PeriodicError, PeriodicOptions, PeriodicOrbit, Shift,
+};
 use bgdsl_runtime::{FromParams, Simulation, Solver};
 use serde::de::DeserializeOwned;
 use serde_yaml::{Mapping, Value};
@@ -21,7 +23,7 @@ pub const CHART_LIMIT: usize = 16;
 
 /// What `models periodic` asks of a model, beside the plan (parameters, initial state,
 /// start time = the orbit's phase `t0`).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct PeriodicRequest {
     /// The period, s.
     pub period: f64,
@@ -36,6 +38,8 @@ pub struct PeriodicRequest {
     /// The solver of the period map and of the samples (`None`: the library's,
     /// Radau5 at rtol 1e-9, atol 1e-11).
     pub solver: Option<Solver>,
+    /// The states periodic up to an advance per period: (state index, advance).
+    pub shifts: Vec<(usize, f64)>,
 }
 
 impl PeriodicRequest {
@@ -49,6 +53,7 @@ impl PeriodicRequest {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations,
             solver: None,
+            shifts: Vec::new(),
         }
     }
 
@@ -105,7 +110,12 @@ where
     let guess = initial_state(&model, &plan.initial);
     let t0 = plan.span()[0];
     let options = request.options(t0);
-    let orbit = periodic_orbit(&model, &guess, &[], &options).map_err(failure)?;
+    let shifts: Vec<Shift> = request
+        .shifts
+        .iter()
+        .map(|&(state, per_period)| Shift { state, per_period })
+        .collect();
+    let orbit = periodic_orbit(&model, &guess, &shifts, &options).map_err(failure)?;
     let points = request.points.max(2);
     let times: Vec<f64> = (0..=points)
         .map(|k| t0 + request.period * k as f64 / points as f64)
@@ -212,6 +222,7 @@ struct FloquetFile<'a> {
     neutral_residual: f64,
     periods_integrated: usize,
     initial_state: Vec<(&'a str, f64)>,
+    shifts: Vec<(&'a str, f64)>,
     neutral: NeutralFile,
     free_states: Vec<FreeFile>,
 }
@@ -254,6 +265,16 @@ pub fn floquet_json(model: &str, state_names: &[&str], orbit: &PeriodicOrbit) ->
         residual: orbit.residual,
         neutral_residual: orbit.neutral_residual,
         periods_integrated: orbit.periods_integrated,
+        shifts: orbit
+            .shifts
+            .iter()
+            .map(|s| {
+                (
+                    state_names.get(s.state).copied().unwrap_or("?"),
+                    s.per_period,
+                )
+            })
+            .collect(),
         initial_state: state_names
             .iter()
             .copied()
@@ -491,6 +512,15 @@ pub fn results_set(
     record.insert("warmup_periods".into(), request.warmup_periods.into());
     record.insert("points".into(), request.points.into());
     record.insert("tolerance".into(), request.tolerance.into());
+    if !request.shifts.is_empty() {
+        let names = entry.model.state_names();
+        let mut shifts = Mapping::new();
+        for &(state, advance) in &request.shifts {
+            let name = names.get(state).copied().unwrap_or("?");
+            shifts.insert(name.into(), advance.into());
+        }
+        record.insert("shifts".into(), Value::Mapping(shifts));
+    }
     record.insert("iterations".into(), orbit.iterations.into());
     record.insert("stability".into(), stability.keyword().into());
     record.insert(

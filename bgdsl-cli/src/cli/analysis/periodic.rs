@@ -5,7 +5,9 @@
 use clap::Args;
 use serde_yaml::Value;
 
-use super::{execute, plan, ModelArgs};
+use bgdsl_analysis::periodic::PeriodicOptions;
+
+use super::{execute, plan, state_value, ModelArgs};
 use crate::catalog::analysis::periodic::{orbit_columns, results_set, PeriodicRequest};
 use crate::catalog::{Catalogue, Entry, RunPlan};
 use crate::cli::Failure;
@@ -27,19 +29,24 @@ pub struct PeriodicArgs {
     #[arg(long, value_name = "PARAM", conflicts_with = "period")]
     pub drive: Option<String>,
     /// Periods simulated from the initial state before Newton's method starts (to
-    /// start near an attracting orbit).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    /// start near an attracting orbit; the library then settles up to 20 more while
+    /// each halves the change over a period).
+    #[arg(long, value_name = "N", default_value_t = PeriodicOptions::new(1.0).warmup_periods)]
     pub warmup: usize,
     /// Samples per period in orbit.csv (one more row closes the period).
     #[arg(long, value_name = "N", default_value_t = 200)]
     pub points: usize,
     /// Converged when the period map moves every state by at most this fraction of its
-    /// scale.
-    #[arg(long, value_name = "X", default_value_t = 1e-4)]
+    /// scale (its largest magnitude over the period, plus 1e-3 of the largest state's).
+    #[arg(long, value_name = "X", default_value_t = PeriodicOptions::new(1.0).tolerance)]
     pub tolerance: f64,
     /// Newton iterations allowed.
-    #[arg(long, value_name = "N", default_value_t = 20)]
+    #[arg(long, value_name = "N", default_value_t = PeriodicOptions::new(1.0).max_iterations)]
     pub max_iterations: usize,
+    /// A state that is periodic up to a fixed advance per period, e.g. a crank angle
+    /// held as a state: `--shift theta=6.283185307179586` (repeatable).
+    #[arg(long, value_name = "STATE=ADVANCE", allow_hyphen_values = true)]
+    pub shift: Vec<String>,
 }
 
 impl Default for PeriodicArgs {
@@ -54,6 +61,7 @@ impl Default for PeriodicArgs {
             points: request.points,
             tolerance: request.tolerance,
             max_iterations: request.max_iterations,
+            shift: Vec::new(),
         }
     }
 }
@@ -138,6 +146,10 @@ pub(crate) fn periodic(args: &PeriodicArgs, catalogue: &'static Catalogue) -> Re
     if let Some(drive) = &args.drive {
         options.push(("drive".to_owned(), drive.clone()));
     }
+    for shift in &args.shift {
+        let (name, value) = shift.split_once('=').unwrap_or((shift, ""));
+        options.push((format!("shift.{}", name.trim()), value.trim().to_owned()));
+    }
     let (entry, plan) = plan(&args.model, catalogue, "periodic", &options)?;
     let (period, source) = period(args, entry, &plan)?;
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
@@ -154,6 +166,16 @@ pub(crate) fn periodic(args: &PeriodicArgs, catalogue: &'static Catalogue) -> Re
     }
     let chosen_solver =
         args.model.solver.is_some() || args.model.rtol.is_some() || args.model.atol.is_some();
+    let mut shifts = Vec::new();
+    for flag in &args.shift {
+        let (state, advance) = state_value(entry, "--shift", flag)?;
+        if shifts.iter().any(|&(s, _)| s == state) {
+            return Err(Failure::Usage(format!(
+                "--shift {flag}: that state is shifted twice"
+            )));
+        }
+        shifts.push((state, advance));
+    }
     let request = PeriodicRequest {
         period,
         warmup_periods: args.warmup,
@@ -161,6 +183,7 @@ pub(crate) fn periodic(args: &PeriodicArgs, catalogue: &'static Catalogue) -> Re
         tolerance: args.tolerance,
         max_iterations: args.max_iterations,
         solver: chosen_solver.then_some(plan.solver),
+        shifts,
     };
     let columns = orbit_columns(entry, &plan);
     let only: Vec<crate::catalog::Column> = columns.iter().map(|(_, c)| *c).collect();
