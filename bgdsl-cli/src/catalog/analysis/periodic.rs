@@ -40,6 +40,8 @@ pub struct PeriodicRequest {
     pub solver: Option<Solver>,
     /// The states periodic up to an advance per period: (state index, advance).
     pub shifts: Vec<(usize, f64)>,
+    /// SDIRK steps per period of the monodromy matrix ([`PeriodicOptions::steps`]).
+    pub steps: usize,
 }
 
 impl PeriodicRequest {
@@ -54,6 +56,7 @@ impl PeriodicRequest {
             max_iterations: options.max_iterations,
             solver: None,
             shifts: Vec::new(),
+            steps: options.steps,
         }
     }
 
@@ -66,6 +69,7 @@ impl PeriodicRequest {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
             solver: self.solver.unwrap_or(defaults.solver),
+            steps: self.steps,
             ..defaults
         }
     }
@@ -512,6 +516,7 @@ pub fn results_set(
     record.insert("warmup_periods".into(), request.warmup_periods.into());
     record.insert("points".into(), request.points.into());
     record.insert("tolerance".into(), request.tolerance.into());
+    record.insert("steps".into(), request.steps.into());
     if !request.shifts.is_empty() {
         let names = entry.model.state_names();
         let mut shifts = Mapping::new();
