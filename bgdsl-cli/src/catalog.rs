@@ -264,6 +264,34 @@ pub trait CatalogModel: Send + Sync {
         plan: &RunPlan,
         request: &analysis::linear::LinearRequest,
     ) -> Result<bgdsl_analysis::LinearModel, analysis::AnalysisFailure>;
+    /// The periodic orbit of the model with `plan`'s parameters near its initial state,
+    /// from its start time, with `columns` sampled over one period (`models periodic`;
+    /// see [`analysis::periodic`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): a bad period, a failed run, no
+    /// convergence.
+    fn periodic(
+        &self,
+        plan: &RunPlan,
+        columns: &[Column],
+        request: &analysis::periodic::PeriodicRequest,
+    ) -> Result<analysis::periodic::PeriodicFound, analysis::AnalysisFailure>;
+    /// The least-squares fit of `parameters` of the model, from `plan`'s values, to
+    /// `data` (`models fit`; see [`analysis::fit`]).
+    ///
+    /// # Errors
+    ///
+    /// [`AnalysisFailure`](analysis::AnalysisFailure): an unknown parameter or column, a
+    /// failed run, parameters the data do not determine.
+    fn fit(
+        &self,
+        plan: &RunPlan,
+        data: &bgdsl_analysis::fit::Measurements,
+        parameters: &[analysis::fit::FitBound],
+        options: &bgdsl_analysis::fit::FitOptions,
+    ) -> Result<analysis::fit::FitFound, analysis::AnalysisFailure>;
 }
 
 /// The summary's last line: where the run's page is, `report         out/x/index.html`.

@@ -160,4 +160,23 @@ where
     ) -> Result<bgdsl_analysis::LinearModel, super::analysis::AnalysisFailure> {
         super::analysis::linear::linearize::<M>(plan, request)
     }
+
+    fn periodic(
+        &self,
+        plan: &RunPlan,
+        columns: &[super::Column],
+        request: &super::analysis::periodic::PeriodicRequest,
+    ) -> Result<super::analysis::periodic::PeriodicFound, super::analysis::AnalysisFailure> {
+        super::analysis::periodic::periodic_of::<M>(plan, columns, request)
+    }
+
+    fn fit(
+        &self,
+        plan: &RunPlan,
+        data: &bgdsl_analysis::fit::Measurements,
+        parameters: &[super::analysis::fit::FitBound],
+        options: &bgdsl_analysis::fit::FitOptions,
+    ) -> Result<super::analysis::fit::FitFound, super::analysis::AnalysisFailure> {
+        super::analysis::fit::fit_of::<M>(plan, data, parameters, options)
+    }
 }

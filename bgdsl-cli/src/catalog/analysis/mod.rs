@@ -19,7 +19,9 @@
 //! - figures through [`crate::plot`], `index.html` through [`crate::report`].
 
 pub mod bode;
+pub mod fit;
 pub mod linear;
+pub mod periodic;
 pub mod steady;
 
 use core::fmt;
@@ -114,6 +116,9 @@ pub enum AnalysisFailure {
     Analysis(AnalysisError),
     /// The results could not be written, or the folder is not the program's.
     Run(RunError),
+    /// The analysis found no result, for the reason given (a periodic orbit's
+    /// shooting without convergence, a fit whose data do not determine a parameter).
+    Failed(String),
     /// A signal arrived before the results were committed.
     Interrupted,
 }
@@ -121,7 +126,9 @@ pub enum AnalysisFailure {
 impl fmt::Display for AnalysisFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            AnalysisFailure::Usage(message) => f.write_str(message),
+            AnalysisFailure::Usage(message) | AnalysisFailure::Failed(message) => {
+                f.write_str(message)
+            }
             AnalysisFailure::Analysis(e) => write!(f, "{e}"),
             AnalysisFailure::Run(e) => write!(f, "{e}"),
             AnalysisFailure::Interrupted => {
