@@ -33,6 +33,19 @@ use bgdsl_cli::cli::{execute, Cli, Command};
 use bgdsl_cli::Catalogue;
 use bgdsl_runtime::bond_graph;
 
+mod analysis_common;
+use analysis_common::{csv, MODELS};
+
+/// `orbit.csv` in `out`: header names and rows, every entry a finite number.
+fn orbit_csv(out: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let (header, rows) = csv(&out.join("orbit.csv"));
+    assert!(
+        rows.iter().flatten().all(|v| v.is_finite()),
+        "orbit.csv holds a non-number"
+    );
+    (header, rows)
+}
+
 bond_graph! {
     /// A mass on a spring with a damper, driven by `F cos(ω t)`.
     pub model Forced {
@@ -58,9 +71,6 @@ bond_graph! {
 }
 
 static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| bgdsl_cli::catalogue![Forced]);
-
-/// The program's own catalogue (`models`).
-static MODELS: LazyLock<Catalogue> = LazyLock::new(models::catalog::catalogue);
 
 /// A fresh scratch folder (removed when dropped).
 struct Scratch(PathBuf);
@@ -110,22 +120,6 @@ fn periodic_in(
     )
 }
 
-/// The columns of a CSV file: header names and rows of numbers.
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_owned)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
-}
-
 #[test]
 fn the_orbit_and_multipliers_of_a_driven_oscillator_match_the_closed_form() {
     let scratch = Scratch::new("closed-form");
@@ -140,7 +134,7 @@ fn the_orbit_and_multipliers_of_a_driven_oscillator_match_the_closed_form() {
     let amplitude = f / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt();
     let phase = (c * w).atan2(k - m * w * w);
 
-    let (header, rows) = read_csv(&out.join("orbit.csv"));
+    let (header, rows) = orbit_csv(&out);
     assert_eq!(header, ["t", "mass.p", "spring.q", "x"]);
     assert_eq!(rows.len(), 51, "50 intervals over one period, both ends");
     assert!((rows[50][0] - rows[0][0] - period).abs() < 1e-12);
@@ -269,7 +263,7 @@ fn the_catalogue_duffing_orbit_closes_and_its_multipliers_obey_liouville() {
     );
     assert_eq!(floquet["stability"], "attracting");
 
-    let (header, rows) = read_csv(&out.join("orbit.csv"));
+    let (header, rows) = orbit_csv(&out);
     assert_eq!(&header[..3], ["t", "mass.p", "spring.q"]);
     let (first, last) = (&rows[0], &rows[rows.len() - 1]);
     assert!((last[0] - first[0] - period).abs() < 1e-12);
