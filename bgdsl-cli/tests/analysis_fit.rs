@@ -244,9 +244,12 @@ fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
     execute(
         Cli {
             command: Some(Command::Run(Box::new(RunArgs {
-                target: scenario.to_string_lossy().into_owned(),
-                out: Some(run_out.clone()),
-                no_plots: true,
+                model: ModelArgs {
+                    target: scenario.to_string_lossy().into_owned(),
+                    out: Some(run_out.clone()),
+                    no_plots: true,
+                    ..ModelArgs::default()
+                },
                 ..RunArgs::default()
             }))),
         },

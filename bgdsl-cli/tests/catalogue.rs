@@ -265,3 +265,57 @@ fn help_names_the_program_and_its_first_model() {
     );
     assert!(!params.contains("`models "), "{params}");
 }
+
+/// `run` and every analysis command take the same model flags ([`ModelArgs`], one help
+/// text each): their long helps list each of them with the same text, and only `run`
+/// has the flags of a run alone.
+///
+/// [`ModelArgs`]: bgdsl_cli::cli::ModelArgs
+#[test]
+fn run_and_the_analyses_share_the_model_flags_and_their_help() {
+    let shared = [
+        "--out",
+        "--set",
+        "--solver",
+        "--rtol",
+        "--atol",
+        "--t-start",
+        "--t-end",
+        "--max-steps",
+        "--no-plots",
+    ];
+    let mut command = bgdsl_cli::cli::command(&CATALOGUE);
+    let mut helps = Vec::new();
+    for name in ["run", "steady", "linearize", "bode", "periodic", "fit"] {
+        let sub = command.find_subcommand_mut(name).unwrap();
+        let mut texts = Vec::new();
+        for flag in shared {
+            let arg = sub
+                .get_arguments()
+                .find(|a| a.get_long() == Some(&flag[2..]))
+                .unwrap_or_else(|| panic!("`{name}` has no {flag}"));
+            texts.push(arg.get_long_help().or(arg.get_help()).unwrap().to_string());
+        }
+        let help = sub.render_long_help().to_string();
+        for flag in shared {
+            assert!(
+                help.contains(&format!("{flag} ")) || help.contains(&format!("{flag}\n")),
+                "{help}"
+            );
+        }
+        assert_eq!(
+            help.contains("--step <X>") && help.contains("--interval <X>"),
+            name == "run",
+            "{help}"
+        );
+        // The renamed program's text, not `models`'.
+        assert!(help.contains("(see `bgdsl-cli list`)"), "{help}");
+        helps.push((name, texts));
+    }
+    for (name, texts) in &helps[1..] {
+        assert_eq!(
+            texts, &helps[0].1,
+            "`{name}`'s flags are described as `run`'s"
+        );
+    }
+}

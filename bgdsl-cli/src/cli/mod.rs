@@ -25,7 +25,7 @@
 //! ```
 //!
 //! The analysis commands ([`analysis`]) take the model, `--set`, the solver flags and
-//! `--out` as `run` does, and write their results set (with `run.yaml` and
+//! `--out` as `run` does (one set of flags, [`ModelArgs`]), and write their results set (with `run.yaml` and
 //! `index.html`) into `out/<model>-<command>/` by default; a failed analysis (a
 //! singular Jacobian, no convergence) exits with status 1 and writes nothing.
 //!
@@ -60,7 +60,7 @@ use std::path::PathBuf;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
 use crate::catalog::{Catalogue, RunError};
-use crate::scenario::Diagnostics;
+use crate::scenario::{Diagnostics, Overrides};
 
 pub use progress::Progress;
 
@@ -162,29 +162,40 @@ pub enum Command {
     Fit(Box<analysis::fit::FitArgs>),
 }
 
-/// The arguments of `models run`.
+/// The model and its settings: the arguments `models run` and every analysis command
+/// (`steady`, `linearize`, `bode`, `periodic`, `fit`) share, each flag's help written
+/// once, and checked by the same code ([`ModelArgs::overrides`], the scenario's
+/// resolution).
 #[derive(Clone, Debug, Default, Args)]
-pub struct RunArgs {
-    /// A model name (see `models list`) or a scenario file (.yaml).
+pub struct ModelArgs {
+    /// A model name (see `models list`) or a scenario file (.yaml): its parameters,
+    /// initial state, time span and solver are used; a sweep or Monte Carlo study runs
+    /// only under `run` (the analysis commands refuse it).
     #[arg(value_name = "MODEL | SCENARIO.yaml")]
     pub target: String,
-    /// The output directory [default: out/NAME, or out/NAME-OVERRIDES with overrides].
+    /// The output directory [default: out/NAME for `run`, out/NAME-COMMAND for an
+    /// analysis (e.g. out/rlc-linearize); with settings, followed by -SETTINGS].
     ///
     /// NAME is the model's name or the scenario file's without its extension.
-    /// OVERRIDES lists the command line's overrides as key=value joined by commas: the
+    /// SETTINGS lists the command line's overrides as key=value joined by commas: the
     /// --set parameters sorted by name, then solver, rtol, atol, step, t_start, t_end,
-    /// interval and max_steps when given (e.g. `models run quick_return --set d=0.3 --set w_drive=4` writes
+    /// interval and max_steps when given, then an analysis's own options (e.g.
+    /// at=steady) (e.g. `models run quick_return --set d=0.3 --set w_drive=4` writes
     /// out/quick_return-d=0.3,w_drive=4); a list longer than 64 characters, or with
     /// characters other than letters, digits and `._+-=,`, is cut to 40 and followed by
-    /// a hash of the whole. --no-plots does not count. Every results folder holds
-    /// run.yaml, the record of what produced it.
+    /// a hash of the whole. --no-plots does not count. The folder is replaced whole
+    /// when the command succeeds and left as it was when it fails (a run that fails
+    /// part-way writes its partial results beside it, in <out>.partial/). Every results
+    /// folder holds run.yaml, the record of what produced it.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Set a parameter, e.g. `--set g=0` or `--set l1=[0.2,0.01,0.01]` (repeatable;
     /// overrides the scenario).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// The solver: rk4, dopri5, dopri5-fixed, radau5, rodas4 or rodas5p.
+    /// The solver of every run the command makes (an analysis's: an operating point
+    /// at a time, an orbit, a fit): rk4, dopri5, dopri5-fixed, radau5, rodas4 or
+    /// rodas5p.
     #[arg(long, value_name = "NAME")]
     pub solver: Option<String>,
     /// Relative tolerance of an adaptive solver, in [1e-14, 0.1].
@@ -193,24 +204,59 @@ pub struct RunArgs {
     /// Absolute tolerance of an adaptive solver, > 0.
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub atol: Option<f64>,
-    /// The start of the time span, s [default: 0, or the scenario's `time.start`].
+    /// The start of the time span, s: where the initial state is, and the time at which
+    /// an equilibrium's rates are evaluated [default: 0, or the scenario's
+    /// `time.start`].
     #[arg(long = "t-start", value_name = "X", allow_negative_numbers = true)]
     pub t_start: Option<f64>,
-    /// The end of the time span, s.
+    /// The end of the time span, s (a run's; the analyses run only as far as they
+    /// need).
     #[arg(long = "t-end", value_name = "X", allow_negative_numbers = true)]
     pub t_end: Option<f64>,
-    /// The step of a fixed-step solver (rk4, dopri5-fixed), s, > 0.
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
-    pub step: Option<f64>,
     /// The solver's step budget, > 0.
     #[arg(long = "max-steps", value_name = "N")]
     pub max_steps: Option<usize>,
-    /// Seconds between samples, > 0 (replaces the scenario's `interval` or `count`).
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
-    pub interval: Option<f64>,
     /// Draw no figures.
     #[arg(long)]
     pub no_plots: bool,
+}
+
+impl ModelArgs {
+    /// The command line's overrides of the scenario that these flags give (the
+    /// run-only ones, `--step`, `--interval`, `--phase`, unset), with the program's
+    /// arguments for the record.
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            set: self.set.clone(),
+            solver: self.solver.clone(),
+            rtol: self.rtol,
+            atol: self.atol,
+            t_start: self.t_start,
+            t_end: self.t_end,
+            max_steps: self.max_steps,
+            no_plots: self.no_plots,
+            out: self.out.clone(),
+            command_line: std::env::args_os()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
+            ..Overrides::default()
+        }
+    }
+}
+
+/// The arguments of `models run`: the model and its settings, and the flags only a
+/// run has.
+#[derive(Clone, Debug, Default, Args)]
+pub struct RunArgs {
+    /// The model and its settings.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// The step of a fixed-step solver (rk4, dopri5-fixed), s, > 0.
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub step: Option<f64>,
+    /// Seconds between samples, > 0 (replaces the scenario's `interval` or `count`).
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    pub interval: Option<f64>,
     /// A phase portrait: two state or output names, e.g. `--phase x,speed`
     /// (repeatable; beside the scenario's `plots: {phase: [[x, speed]]}`).
     #[arg(long, value_name = "X,Y")]
@@ -378,7 +424,10 @@ pub fn execute(cli: Cli, catalogue: &'static Catalogue) -> Result<(), Failure> {
             };
             run::run(
                 &RunArgs {
-                    target: first.name.clone(),
+                    model: ModelArgs {
+                        target: first.name.clone(),
+                        ..ModelArgs::default()
+                    },
                     ..RunArgs::default()
                 },
                 catalogue,

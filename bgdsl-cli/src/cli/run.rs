@@ -12,7 +12,7 @@ use crate::scenario::{self, resolve, Job, Origin, Overrides, Plan, Scenario};
 use crate::study::shard::Shard;
 
 /// Whether the target names a scenario file rather than a model.
-pub(super) fn is_scenario(target: &str) -> bool {
+fn is_scenario(target: &str) -> bool {
     let path = Path::new(target);
     path.is_file()
         || matches!(
@@ -21,46 +21,40 @@ pub(super) fn is_scenario(target: &str) -> bool {
         )
 }
 
-/// `models run <model | scenario.yaml> ...`.
-pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), Failure> {
-    let overrides = Overrides {
-        set: args.set.clone(),
-        solver: args.solver.clone(),
-        rtol: args.rtol,
-        atol: args.atol,
-        t_start: args.t_start,
-        t_end: args.t_end,
-        step: args.step,
-        max_steps: args.max_steps,
-        interval: args.interval,
-        no_plots: args.no_plots,
-        phase: args.phase.clone(),
-        out: args.out.clone(),
-        command_line: std::env::args_os()
-            .map(|a| a.to_string_lossy().into_owned())
-            .collect(),
-    };
-    let plan = if is_scenario(&args.target) {
-        let path = Path::new(&args.target);
+/// The plan of `target` (a model name or a scenario file) with `overrides`, and the
+/// name its results folder starts with (the model's, or the scenario file's without
+/// its extension): what `run` and every analysis command resolve first.
+///
+/// # Errors
+///
+/// [`Failure::Invalid`] with every problem of the scenario and the flags.
+pub(super) fn resolve_target(
+    target: &str,
+    overrides: &Overrides,
+    catalogue: &'static Catalogue,
+) -> Result<(Plan, String), Failure> {
+    let (plan, name) = if is_scenario(target) {
+        let path = Path::new(target);
         let loaded = scenario::load(path).map_err(Failure::Invalid)?;
         let name = path
             .file_stem()
             .and_then(|s| s.to_str())
             .unwrap_or("scenario")
             .to_owned();
-        resolve(
+        let plan = resolve(
             catalogue,
             Some(&loaded.source),
             &loaded.scenario,
-            &overrides,
+            overrides,
             &name,
-        )
+        );
+        (plan, name)
     } else {
         let scenario = Scenario {
-            model: args.target.clone(),
+            model: target.to_owned(),
             ..Scenario::default()
         };
-        resolve(catalogue, None, &scenario, &overrides, &args.target).map_err(|mut d| {
+        let plan = resolve(catalogue, None, &scenario, overrides, target).map_err(|mut d| {
             if let Some(first) = d.0.first_mut() {
                 if first.origin == Origin::Nowhere && first.message.starts_with("unknown model") {
                     first
@@ -69,12 +63,24 @@ pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), F
                 }
             }
             d
-        })
-    }
-    .map_err(Failure::Invalid)?;
+        });
+        (plan, target.to_owned())
+    };
+    Ok((plan.map_err(Failure::Invalid)?, name))
+}
+
+/// `models run <model | scenario.yaml> ...`.
+pub(super) fn run(args: &RunArgs, catalogue: &'static Catalogue) -> Result<(), Failure> {
+    let overrides = Overrides {
+        step: args.step,
+        interval: args.interval,
+        phase: args.phase.clone(),
+        ..args.model.overrides()
+    };
+    let (plan, _) = resolve_target(&args.model.target, &overrides, catalogue)?;
     let mut plan = plan;
     if let Some(shard) = args.shard {
-        shard_out_dir(&mut plan, shard, args.out.is_none())?;
+        shard_out_dir(&mut plan, shard, args.model.out.is_none())?;
     }
 
     // The size guard (`--yes` skips it, and the sweep's timing probe with it).

@@ -13,59 +13,14 @@ pub mod linearize;
 pub mod periodic;
 pub mod steady;
 
-use std::path::PathBuf;
-
-use clap::Args;
-
-use super::run::is_scenario;
+use super::run::resolve_target;
 use super::Failure;
 use crate::catalog::analysis::{self, AnalysisFailure, AnalysisSet};
 use crate::catalog::{Catalogue, Entry, RunPlan};
 use crate::provenance::folder::{command_line_settings, default_out_dir};
-use crate::scenario::{self, resolve, Job, Origin, Overrides, Scenario};
+use crate::scenario::Job;
 
-/// The model and its settings, as `models run` reads them; every analysis command
-/// takes these.
-#[derive(Clone, Debug, Default, Args)]
-pub struct ModelArgs {
-    /// A model name (see `models list`) or a scenario file (.yaml): its parameters,
-    /// initial state, time span and solver are used; a sweep or Monte Carlo study is
-    /// refused.
-    #[arg(value_name = "MODEL | SCENARIO.yaml")]
-    pub target: String,
-    /// The output directory [default: out/NAME-COMMAND, or out/NAME-COMMAND-SETTINGS
-    /// with overrides or options, as `models run` names its folders]. Replaced whole
-    /// when the analysis succeeds; untouched when it fails.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Set a parameter, e.g. `--set R=2` or `--set l1=[0.2,0.01,0.01]` (repeatable;
-    /// overrides the scenario).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// The solver of any run the analysis makes (an operating point at a time, an
-    /// orbit): rk4, dopri5, dopri5-fixed, radau5, rodas4 or rodas5p.
-    #[arg(long, value_name = "NAME")]
-    pub solver: Option<String>,
-    /// Relative tolerance of an adaptive solver, in [1e-14, 0.1].
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
-    pub rtol: Option<f64>,
-    /// Absolute tolerance of an adaptive solver, > 0.
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
-    pub atol: Option<f64>,
-    /// The start time, s: where the initial state is, and the time at which an
-    /// equilibrium's rates are evaluated [default: 0, or the scenario's `time.start`].
-    #[arg(long = "t-start", value_name = "X", allow_negative_numbers = true)]
-    pub t_start: Option<f64>,
-    /// The end of the time span, s (for the analyses that run the model).
-    #[arg(long = "t-end", value_name = "X", allow_negative_numbers = true)]
-    pub t_end: Option<f64>,
-    /// The solver's step budget, > 0.
-    #[arg(long = "max-steps", value_name = "N")]
-    pub max_steps: Option<usize>,
-    /// Draw no figures.
-    #[arg(long)]
-    pub no_plots: bool,
-}
+pub use super::ModelArgs;
 
 /// The plan an analysis command works on: the model's entry and its run plan, with
 /// the output folder `--out` or `out/NAME-COMMAND[-SETTINGS]`, where SETTINGS are the
@@ -82,57 +37,8 @@ pub fn plan(
     command: &str,
     options: &[(String, String)],
 ) -> Result<(&'static Entry, RunPlan), Failure> {
-    let overrides = Overrides {
-        set: args.set.clone(),
-        solver: args.solver.clone(),
-        rtol: args.rtol,
-        atol: args.atol,
-        t_start: args.t_start,
-        t_end: args.t_end,
-        max_steps: args.max_steps,
-        no_plots: args.no_plots,
-        out: args.out.clone(),
-        command_line: std::env::args_os()
-            .map(|a| a.to_string_lossy().into_owned())
-            .collect(),
-        ..Overrides::default()
-    };
-    let (plan, name) = if is_scenario(&args.target) {
-        let path = std::path::Path::new(&args.target);
-        let loaded = scenario::load(path).map_err(Failure::Invalid)?;
-        let name = path
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("scenario")
-            .to_owned();
-        let plan = resolve(
-            catalogue,
-            Some(&loaded.source),
-            &loaded.scenario,
-            &overrides,
-            &name,
-        );
-        (plan, name)
-    } else {
-        let scenario = Scenario {
-            model: args.target.clone(),
-            ..Scenario::default()
-        };
-        let plan =
-            resolve(catalogue, None, &scenario, &overrides, &args.target).map_err(|mut d| {
-                if let Some(first) = d.0.first_mut() {
-                    if first.origin == Origin::Nowhere && first.message.starts_with("unknown model")
-                    {
-                        first
-                            .message
-                            .push_str(" (or give a scenario file, ending in .yaml)");
-                    }
-                }
-                d
-            });
-        (plan, args.target.clone())
-    };
-    let plan = plan.map_err(Failure::Invalid)?;
+    let overrides = args.overrides();
+    let (plan, name) = resolve_target(&args.target, &overrides, catalogue)?;
     let mut run = match plan.job {
         Job::Run(run) => run,
         Job::Sweep(_) | Job::Study(_) => {
