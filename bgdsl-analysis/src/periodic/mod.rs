@@ -39,12 +39,21 @@
 //! of our own, `eigen.rs`: nalgebra's Schur cycles on the quick return's cluster at 1).
 //! Their accuracy is that of `Φ`'s integration ([`PeriodicOptions::steps`]): where
 //! the exactly neutral multipliers form non-trivial Jordan blocks (a free spin: its
-//! angle grows with its momentum), an error `ε` of `Φ` moves them by about `√ε`.
+//! angle grows with its momentum), an error `ε` of `Φ` moves them by about `√ε`, and a
+//! split pair may leave the unit circle (the quick return at 400 steps: modulus 2.2).
+//! So each multiplier gets an error estimate (`resolution.rs`): `Φ` is integrated once
+//! more at `steps / 2`, the two sets of multipliers are matched one to one (least total
+//! distance), and a multiplier's estimate is the distance to its partner
+//! ([`PeriodicOrbit::multiplier_errors`]); it is resolved when that is at most
+//! [`PeriodicOptions::multiplier_tolerance`] ([`PeriodicOrbit::resolved`]). A split
+//! multiplier moves by more than its distance from 1 when the steps halve, so it is
+//! never outside the unit circle by more than its estimate.
 
 mod coordinates;
 mod eigen;
 mod floquet;
 mod newton;
+mod resolution;
 
 pub use floquet::NeutralDirections;
 
@@ -144,6 +153,14 @@ pub struct PeriodicOptions {
     /// threshold is raised to a tenth of the residual, by which the neutral singular
     /// values move there).
     pub neutral_tolerance: f64,
+    /// Whether the multipliers are checked against those of `Φ` at `steps / 2` SDIRK
+    /// steps (one more period with `Φ`, at half the cost), which gives each its error
+    /// estimate ([`PeriodicOrbit::multiplier_errors`]; default true).
+    pub check_multipliers: bool,
+    /// A multiplier is resolved when its error estimate is at most this (default 1e-2:
+    /// the quick return's genuine 1.0817 has 2.5e-3 at 400 steps, its spurious pair of
+    /// modulus 2.2 more than 1).
+    pub multiplier_tolerance: f64,
 }
 
 impl PeriodicOptions {
@@ -163,6 +180,8 @@ impl PeriodicOptions {
             warmup_periods: 0,
             max_settle_periods: 20,
             neutral_tolerance: 1e-4,
+            check_multipliers: true,
+            multiplier_tolerance: 1e-2,
         }
     }
 }
@@ -250,6 +269,19 @@ pub struct PeriodicOrbit {
     /// the QR iteration did not converge. The neutral ones are 1 to about the square
     /// root of `Φ`'s integration error (see the module's documentation).
     pub multipliers: Vec<Complex<f64>>,
+    /// Each multiplier's error estimate: its distance to its partner among the
+    /// multipliers of `Φ` at [`PeriodicOrbit::check_steps`] steps (matched one to one,
+    /// least total distance; see [`PeriodicOptions::check_multipliers`]). It bounds the
+    /// error when the multiplier converges at least at order one in the step; a
+    /// multiplier of a Jordan block split by `Φ`'s integration error moves by more than
+    /// its distance from 1, so it is never outside the unit circle by more than its
+    /// error. Infinite when not checked.
+    pub multiplier_errors: Vec<f64>,
+    /// Whether each multiplier's error estimate is at most
+    /// [`PeriodicOptions::multiplier_tolerance`].
+    pub resolved: Vec<bool>,
+    /// The SDIRK steps per period of the check (`steps / 2`; 0: not checked).
+    pub check_steps: usize,
     /// The neutral directions (singular values of the scaled `Φ_z − I` below
     /// [`PeriodicOptions::neutral_tolerance`]).
     pub neutral: NeutralDirections,
@@ -336,6 +368,17 @@ fn scales(peak: &[f64]) -> Vec<f64> {
     let big = peak.iter().fold(0.0f64, |m, v| m.max(*v));
     let floor = if big > 0.0 { 1e-3 * big } else { 1.0 };
     peak.iter().map(|v| v + floor).collect()
+}
+
+/// `S⁻¹ (Φ_z − I) S` from `Φ_z` and the unknowns' scales `s`.
+fn scaled(mut a: DMatrix<f64>, s: &[f64]) -> DMatrix<f64> {
+    for (i, si) in s.iter().enumerate() {
+        a[(i, i)] -= 1.0;
+        for (j, sj) in s.iter().enumerate() {
+            a[(i, j)] *= sj / si;
+        }
+    }
+    a
 }
 
 /// The largest change from `x` to `y` relative to `|x_i| + 1e-3 max_j |x_j|`.
@@ -438,13 +481,7 @@ pub fn periodic_orbit<M: Model>(
         let d = scales(&peak);
         let s = coordinates.scales(|i| d[i]);
         // A = S⁻¹ (Φ_z − I) S: the scaled residual's change per scaled unknown.
-        let mut a = coordinates.reduce(&phi, &x, &end);
-        for (i, si) in s.iter().enumerate() {
-            a[(i, i)] -= 1.0;
-            for (j, sj) in s.iter().enumerate() {
-                a[(i, j)] *= sj / si;
-            }
-        }
+        let a = scaled(coordinates.reduce(&phi, &x, &end), &s);
         let r = scaled_residual(coordinates, &x, &end, shifted, &s);
         // Off the orbit the neutral directions' singular values are off zero by about
         // the distance to it (a first integral's gradient at the start and at the end
@@ -469,6 +506,31 @@ pub fn periodic_orbit<M: Model>(
                 })
                 .collect();
             let multipliers = floquet::multipliers(&defect.a);
+            let check_steps = if options.check_multipliers {
+                options.steps / 2
+            } else {
+                0
+            };
+            let coarse = PeriodicOptions {
+                steps: check_steps,
+                ..*options
+            };
+            // A check that fails (the coarser `Φ` singular) resolves nothing.
+            let checked = (check_steps > 0)
+                .then(|| period_map_with_monodromy(model, &coarse, &x).ok())
+                .flatten();
+            let multiplier_errors = match checked {
+                Some((end, phi, _)) => {
+                    periods += 1;
+                    let a = scaled(coordinates.reduce(&phi, &x, &end), &s);
+                    resolution::errors(&multipliers, &floquet::multipliers(&a))
+                }
+                None => vec![f64::INFINITY; multipliers.len()],
+            };
+            let resolved = multiplier_errors
+                .iter()
+                .map(|e| *e <= options.multiplier_tolerance)
+                .collect();
             return Ok(PeriodicOrbit {
                 t0: options.t0,
                 period: options.period,
@@ -476,6 +538,9 @@ pub fn periodic_orbit<M: Model>(
                 shifts: shifts.to_vec(),
                 free_states,
                 multipliers,
+                multiplier_errors,
+                resolved,
+                check_steps,
                 monodromy: phi,
                 neutral,
                 iterations: iteration,

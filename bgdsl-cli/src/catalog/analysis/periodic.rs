@@ -145,42 +145,104 @@ where
 /// exact value by 6e-6 relative on the catalogue's Duffing oscillator.
 pub const NEUTRAL_MODULUS: f64 = 1e-4;
 
-/// The orbit's stability read from its Floquet multipliers.
+/// One Floquet multiplier as the stability verdict reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reading {
+    /// Its real part.
+    pub re: f64,
+    /// Its imaginary part.
+    pub im: f64,
+    /// Its error estimate ([`PeriodicOrbit::multiplier_errors`]).
+    pub error: f64,
+    /// Whether it is resolved ([`PeriodicOrbit::resolved`]).
+    pub resolved: bool,
+}
+
+impl Reading {
+    /// The orbit's multipliers with their error estimates.
+    pub fn of_orbit(orbit: &PeriodicOrbit) -> Vec<Reading> {
+        orbit
+            .multipliers
+            .iter()
+            .enumerate()
+            .map(|(k, m)| Reading {
+                re: m.re,
+                im: m.im,
+                error: orbit
+                    .multiplier_errors
+                    .get(k)
+                    .copied()
+                    .unwrap_or(f64::INFINITY),
+                resolved: orbit.resolved.get(k).copied().unwrap_or(false),
+            })
+            .collect()
+    }
+
+    fn modulus(&self) -> f64 {
+        self.re.hypot(self.im)
+    }
+}
+
+/// The orbit's stability read from its Floquet multipliers and their error estimates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stability {
     /// Every multiplier inside the unit circle: nearby motions return to the orbit.
     Attracting,
-    /// None outside, some on the unit circle (within [`NEUTRAL_MODULUS`]): nearby
-    /// motions neither return nor depart along those directions.
+    /// None outside, some on the unit circle (within [`NEUTRAL_MODULUS`] or their error
+    /// estimate): nearby motions neither return nor depart along those directions.
     Neutral {
         /// Multipliers on the unit circle.
         on_circle: usize,
     },
-    /// Some outside: nearby motions depart.
+    /// A resolved multiplier outside the unit circle by more than its error estimate:
+    /// nearby motions depart.
     Unstable {
-        /// The largest modulus.
+        /// The largest such modulus.
         largest: f64,
+    },
+    /// None surely outside, but a multiplier that is not resolved may be: its modulus
+    /// plus its error estimate exceeds 1.
+    NotResolved {
+        /// The largest modulus among those.
+        largest: f64,
+        /// Its error estimate.
+        error: f64,
+        /// The SDIRK steps per period suggested to resolve it (four times those used).
+        suggested_steps: usize,
     },
 }
 
 impl Stability {
-    /// The stability of `multipliers` (`(re, im)` pairs).
-    pub fn of(multipliers: impl IntoIterator<Item = (f64, f64)>) -> Self {
+    /// The stability of `multipliers`, computed at `steps` SDIRK steps per period.
+    pub fn of(multipliers: impl IntoIterator<Item = Reading>, steps: usize) -> Self {
         let mut on_circle = 0;
-        let mut largest = 0.0f64;
-        for (re, im) in multipliers {
-            let modulus = re.hypot(im);
-            largest = largest.max(modulus);
-            if (modulus - 1.0).abs() <= NEUTRAL_MODULUS {
+        let mut unstable = None::<f64>;
+        let mut unresolved = None::<(f64, f64)>;
+        for m in multipliers {
+            let modulus = m.modulus();
+            if modulus.is_nan() {
+                return Stability::Unstable { largest: f64::NAN };
+            }
+            let band = NEUTRAL_MODULUS.max(m.error);
+            if m.resolved && modulus - band > 1.0 {
+                unstable = Some(unstable.map_or(modulus, |u| u.max(modulus)));
+            } else if !m.resolved && modulus + m.error > 1.0 + NEUTRAL_MODULUS {
+                if unresolved.is_none_or(|(u, _)| modulus > u) {
+                    unresolved = Some((modulus, m.error));
+                }
+            } else if (modulus - 1.0).abs() <= band {
                 on_circle += 1;
             }
         }
-        if largest > 1.0 + NEUTRAL_MODULUS || largest.is_nan() {
-            Stability::Unstable { largest }
-        } else if on_circle > 0 {
-            Stability::Neutral { on_circle }
-        } else {
-            Stability::Attracting
+        match (unstable, unresolved) {
+            (Some(largest), _) => Stability::Unstable { largest },
+            (None, Some((largest, error))) => Stability::NotResolved {
+                largest,
+                error,
+                suggested_steps: 4 * steps.max(1),
+            },
+            (None, None) if on_circle > 0 => Stability::Neutral { on_circle },
+            (None, None) => Stability::Attracting,
         }
     }
 
@@ -192,21 +254,33 @@ impl Stability {
             }
             Stability::Neutral { on_circle } => format!(
                 "stable but not attracting in every direction: {on_circle} multiplier(s) on \
-                 the unit circle (|μ| = 1 within {NEUTRAL_MODULUS:e}), the rest inside"
+                 the unit circle (|μ| = 1 within {NEUTRAL_MODULUS:e} or their error \
+                 estimate), the rest inside"
             ),
             Stability::Unstable { largest } => format!(
                 "unstable: a Floquet multiplier of modulus {largest:.6} lies outside the unit \
-                 circle"
+                 circle by more than its error estimate"
+            ),
+            Stability::NotResolved {
+                largest,
+                error,
+                suggested_steps,
+            } => format!(
+                "not resolved: a Floquet multiplier of modulus {largest:.6} has an error \
+                 estimate of {error:.2e} and may lie outside the unit circle (or be a \
+                 neutral multiplier split by the monodromy matrix's integration error); run \
+                 with --steps {suggested_steps}"
             ),
         }
     }
 
-    /// A short keyword: `attracting`, `neutral` or `unstable`.
+    /// A short keyword: `attracting`, `neutral`, `unstable` or `not_resolved`.
     pub fn keyword(self) -> &'static str {
         match self {
             Stability::Attracting => "attracting",
             Stability::Neutral { .. } => "neutral",
             Stability::Unstable { .. } => "unstable",
+            Stability::NotResolved { .. } => "not_resolved",
         }
     }
 }
@@ -219,6 +293,10 @@ struct FloquetFile<'a> {
     t0: f64,
     multipliers: Vec<[f64; 2]>,
     moduli: Vec<f64>,
+    multiplier_errors: Vec<Option<f64>>,
+    resolved: Vec<bool>,
+    check_steps: usize,
+    resolution: &'static str,
     stability: &'static str,
     stability_text: String,
     iterations: usize,
@@ -254,15 +332,32 @@ struct FreeFile {
 /// `state_names`: `period` and `multipliers` as `[re, im]` pairs (the keys issue 16
 /// fixes), then their moduli, the stability, the shooting's iterations and residuals,
 /// the orbit's initial state, the neutral directions and the free states.
-pub fn floquet_json(model: &str, state_names: &[&str], orbit: &PeriodicOrbit) -> String {
+pub fn floquet_json(
+    model: &str,
+    state_names: &[&str],
+    orbit: &PeriodicOrbit,
+    steps: usize,
+) -> String {
     let pairs: Vec<(f64, f64)> = orbit.multipliers.iter().map(|m| (m.re, m.im)).collect();
-    let stability = Stability::of(pairs.iter().copied());
+    let stability = Stability::of(Reading::of_orbit(orbit), steps);
     let file = FloquetFile {
         model,
         period: orbit.period,
         t0: orbit.t0,
         multipliers: pairs.iter().map(|&(re, im)| [re, im]).collect(),
         moduli: pairs.iter().map(|&(re, im)| re.hypot(im)).collect(),
+        // JSON has no infinity: an unchecked multiplier's error is null.
+        multiplier_errors: orbit
+            .multiplier_errors
+            .iter()
+            .map(|e| e.is_finite().then_some(*e))
+            .collect(),
+        resolved: orbit.resolved.clone(),
+        check_steps: orbit.check_steps,
+        resolution: "each multiplier's error estimate is its distance to its partner among \
+            the multipliers of the monodromy matrix at check_steps SDIRK steps per period \
+            (matched one to one, least total distance); resolved: at most the tolerance. A \
+            neutral multiplier split by the integration error is not resolved",
         stability: stability.keyword(),
         stability_text: stability.describe(),
         iterations: orbit.iterations,
@@ -392,7 +487,8 @@ pub fn results_set(
     let orbit = &found.orbit;
     let names: Vec<String> = columns.iter().map(|(n, _)| n.clone()).collect();
     let pairs: Vec<(f64, f64)> = orbit.multipliers.iter().map(|m| (m.re, m.im)).collect();
-    let stability = Stability::of(pairs.iter().copied());
+    let readings = Reading::of_orbit(orbit);
+    let stability = Stability::of(readings.iter().copied(), request.steps);
     let files = vec![
         DataFile::new(
             ORBIT_FILE,
@@ -401,20 +497,28 @@ pub fn results_set(
         DataFile::new("orbit.units.csv", units_csv(entry, &names)),
         DataFile::new(
             FLOQUET_FILE,
-            floquet_json(entry.model.type_name(), entry.model.state_names(), orbit),
+            floquet_json(
+                entry.model.type_name(),
+                entry.model.state_names(),
+                orbit,
+                request.steps,
+            ),
         ),
     ];
 
-    let moduli: Vec<String> = pairs
+    // An unresolved multiplier's modulus is marked `?`.
+    let moduli: Vec<String> = readings
         .iter()
-        .map(|&(re, im)| format!("{:.6}", re.hypot(im)))
+        .map(|m| format!("{:.6}{}", m.modulus(), if m.resolved { "" } else { "?" }))
         .collect();
+    let unresolved = readings.iter().filter(|m| !m.resolved).count();
     let mut summary = format!(
         "model          {} ({})\n\
          periodic orbit period {} ({period_source}), from t0 = {} s\n\
          shooting       {} Newton iteration(s), {} period(s) integrated, residual {:.2e} \
          of the tolerance {:e}\n\
          multipliers    |μ| = {}\n\
+         resolution     {}\n\
          stability      {}\n",
         entry.name,
         entry.model.type_name(),
@@ -425,6 +529,7 @@ pub fn results_set(
         orbit.residual,
         request.tolerance,
         moduli.join(", "),
+        resolution_line(orbit, unresolved),
         stability.describe(),
     );
     if orbit.neutral.dimension > 0 {
@@ -498,16 +603,25 @@ pub fn results_set(
 
     let mut table = String::from(
         "<h2>Floquet multipliers</h2><table><tr><th>#</th><th>Re μ</th><th>Im μ</th>\
-         <th>|μ|</th></tr>",
+         <th>|μ|</th><th>error estimate</th><th>resolved</th></tr>",
     );
-    for (i, &(re, im)) in pairs.iter().enumerate() {
+    for (i, m) in readings.iter().enumerate() {
         table.push_str(&format!(
-            "<tr><td>{}</td><td>{re:.9}</td><td>{im:.9}</td><td>{:.9}</td></tr>",
+            "<tr><td>{}</td><td>{:.9}</td><td>{:.9}</td><td>{:.9}</td><td>{:.2e}</td>\
+             <td>{}</td></tr>",
             i + 1,
-            re.hypot(im)
+            m.re,
+            m.im,
+            m.modulus(),
+            m.error,
+            if m.resolved { "yes" } else { "no" }
         ));
     }
-    table.push_str(&format!("</table><p>{}.</p>", html(&stability.describe())));
+    table.push_str(&format!(
+        "</table><p>{}. {}.</p>",
+        html(&resolution_line(orbit, unresolved)),
+        html(&stability.describe())
+    ));
 
     let mut record = Mapping::new();
     record.insert("period".into(), orbit.period.into());
@@ -528,6 +642,8 @@ pub fn results_set(
     }
     record.insert("iterations".into(), orbit.iterations.into());
     record.insert("stability".into(), stability.keyword().into());
+    record.insert("check_steps".into(), orbit.check_steps.into());
+    record.insert("unresolved_multipliers".into(), unresolved.into());
     record.insert(
         "largest_multiplier_modulus".into(),
         pairs
@@ -548,6 +664,26 @@ pub fn results_set(
         sections: vec![table],
         record,
     }
+}
+
+/// The summary's line on the multipliers' error estimates.
+fn resolution_line(orbit: &PeriodicOrbit, unresolved: usize) -> String {
+    if orbit.check_steps == 0 {
+        return "not checked: no error estimates".to_owned();
+    }
+    let largest = orbit
+        .multiplier_errors
+        .iter()
+        .zip(&orbit.resolved)
+        .filter(|(_, r)| **r)
+        .fold(0.0f64, |m, (e, _)| m.max(*e));
+    format!(
+        "{} of {} multipliers resolved (error estimate against {} SDIRK steps per period at \
+         most {largest:.1e}); {unresolved} not resolved (marked ?)",
+        orbit.multipliers.len() - unresolved,
+        orbit.multipliers.len(),
+        orbit.check_steps
+    )
 }
 
 /// The multipliers (×) in the complex plane with the unit circle: inside is
@@ -611,19 +747,49 @@ mod tests {
 
     #[test]
     fn stability_from_the_multipliers_moduli() {
+        let at = |re: f64, im: f64, error: f64| Reading {
+            re,
+            im,
+            error,
+            resolved: error <= 1e-2,
+        };
         assert_eq!(
-            Stability::of([(0.5, 0.5), (0.5, -0.5)]),
+            Stability::of([at(0.5, 0.5, 1e-6), at(0.5, -0.5, 1e-6)], 400),
             Stability::Attracting
         );
         // An autonomous model's multiplier along the flow, integrated to 1e-5.
         assert_eq!(
-            Stability::of([(1.0 + 1e-5, 0.0), (0.3, 0.0)]),
+            Stability::of([at(1.0 + 1e-5, 0.0, 1e-5), at(0.3, 0.0, 1e-6)], 400),
+            Stability::Neutral { on_circle: 1 }
+        );
+        // Off the circle by less than its error: on it.
+        assert_eq!(
+            Stability::of([at(1.002, 0.0, 3e-3)], 400),
             Stability::Neutral { on_circle: 1 }
         );
         assert_eq!(
-            Stability::of([(0.0, 1.2), (0.0, -1.2)]),
+            Stability::of([at(0.0, 1.2, 1e-6), at(0.0, -1.2, 1e-6)], 400),
             Stability::Unstable { largest: 1.2 }
         );
+        // The quick return at 400 steps: a spurious pair of modulus 2.2 (not resolved)
+        // and the genuine 1.0817 (resolved): unstable, for the genuine one.
+        let pair = [at(1.965, 1.033, 1.28), at(1.965, -1.033, 17.8)];
+        assert_eq!(
+            Stability::of(pair.into_iter().chain([at(1.0821, 0.0, 2.5e-3)]), 400),
+            Stability::Unstable { largest: 1.0821 }
+        );
+        // Without the genuine one, the pair alone is not resolved.
+        match Stability::of(pair, 400) {
+            Stability::NotResolved {
+                largest,
+                suggested_steps,
+                ..
+            } => {
+                assert!((largest - 1.965f64.hypot(1.033)).abs() < 1e-12);
+                assert_eq!(suggested_steps, 1600);
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]
