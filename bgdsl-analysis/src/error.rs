@@ -159,6 +159,10 @@ const ELEMENTS_SHOWN: usize = 8;
 /// See [`ELEMENTS_SHOWN`].
 const MOTIONS_SHOWN: usize = 4;
 
+/// An element's name and its states: per component base, the names relative to the
+/// element.
+type Element<'a> = (&'a str, Vec<(&'a str, Vec<&'a str>)>);
+
 /// State names grouped by element (the name's prefix before the first `.`), in their
 /// order: `` `position` `` alone, `` crank: `R` (9 components), `r_x`, `r_y` `` for
 /// the states of one element (a vector state's components, its name up to the last
@@ -168,8 +172,7 @@ fn grouped(names: &[String]) -> String {
     if names.len() <= 3 {
         return list(names);
     }
-    // (element, [(component base, [names relative to the element])]).
-    let mut elements: Vec<(&str, Vec<(&str, Vec<&str>)>)> = Vec::new();
+    let mut elements: Vec<Element> = Vec::new();
     for name in names {
         let (element, rest) = name.split_once('.').unwrap_or((name.as_str(), ""));
         let base = rest.rsplit_once('_').map_or(rest, |(b, _)| b);

@@ -180,7 +180,7 @@ fn two_joined_tanks_have_one_free_motion_of_both_charges() {
         panic!("{error}");
     };
     let both = vec!["left.q".to_string(), "right.q".to_string()];
-    assert_eq!(motions, &[both.clone()], "{error}");
+    assert_eq!(motions, std::slice::from_ref(&both), "{error}");
     assert_eq!(states, &both, "{error}");
     assert_eq!(rates, &both, "{error}");
     assert!(
