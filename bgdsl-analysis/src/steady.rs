@@ -188,30 +188,95 @@ fn check_singular<M: Model>(
 }
 
 /// Names the states along the null space of `j` and the rates along its left null
-/// space (the components above a tenth of the largest, of every singular vector whose
-/// singular value is negligible).
+/// space, each space as its free motions: the dominant states (above a tenth of the
+/// largest) of each vector of its reduced basis ([`reduced`]), over the singular
+/// vectors whose singular value is negligible.
 fn singular_error<M: Model>(j: &DMatrix<f64>, free: &[usize]) -> AnalysisError {
     let s = equilibrated(j);
     let svd = s.svd(true, true);
     let (u, v_t) = (svd.u.expect("asked for U"), svd.v_t.expect("asked for Vᵀ"));
     let max = svd.singular_values.max();
-    let mut states = Vec::new();
-    let mut rates = Vec::new();
-    for (k, &sigma) in svd.singular_values.iter().enumerate() {
-        if sigma > 1e-9 * max && max > 0.0 {
-            continue;
+    let null: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&k| max == 0.0 || svd.singular_values[k] <= 1e-9 * max)
+        .collect();
+    let right = DMatrix::from_fn(null.len(), free.len(), |r, c| v_t[(null[r], c)]);
+    let left = DMatrix::from_fn(null.len(), free.len(), |r, c| u[(c, null[r])]);
+    let named = |basis: DMatrix<f64>| -> Vec<Vec<String>> {
+        reduced(basis)
+            .into_iter()
+            .map(|motion| {
+                motion
+                    .into_iter()
+                    .map(|i| M::STATE_NAMES[free[i]].to_string())
+                    .collect()
+            })
+            .collect()
+    };
+    let motions = named(right);
+    let unbalanced = named(left);
+    let union = |groups: &[Vec<String>]| {
+        let mut all: Vec<String> = Vec::new();
+        for name in groups.iter().flatten() {
+            if !all.contains(name) {
+                all.push(name.clone());
+            }
         }
-        let name = |vector: Vec<f64>, out: &mut Vec<String>| {
-            let big = vector.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            for (i, v) in vector.iter().enumerate() {
-                let name = M::STATE_NAMES[free[i]].to_string();
-                if v.abs() >= 0.1 * big && !out.contains(&name) {
-                    out.push(name);
+        // In the model's order, so that an element's states stay together.
+        all.sort_by_key(|name| M::STATE_NAMES.iter().position(|n| *n == name.as_str()));
+        all
+    };
+    AnalysisError::Singular {
+        states: union(&motions),
+        rates: union(&unbalanced),
+        motions,
+    }
+}
+
+/// The rows of `basis` (a basis of a subspace, one vector a row) brought to reduced
+/// row echelon form by elimination with full pivoting, so that each vector moves as
+/// few coordinates as the subspace allows (a free body's coordinate alone, when
+/// nothing couples it); each as its dominant coordinates (above a tenth of its
+/// largest), in increasing order, ordered by their first coordinate.
+fn reduced(mut basis: DMatrix<f64>) -> Vec<Vec<usize>> {
+    let (k, n) = basis.shape();
+    let mut pivots = Vec::with_capacity(k);
+    for r in 0..k {
+        let mut best = (r, 0, 0.0f64);
+        for row in r..k {
+            for col in 0..n {
+                let v = basis[(row, col)].abs();
+                if v > best.2 {
+                    best = (row, col, v);
                 }
             }
-        };
-        name(v_t.row(k).iter().copied().collect(), &mut states);
-        name(u.column(k).iter().copied().collect(), &mut rates);
+        }
+        let (row, col, size) = best;
+        if size == 0.0 {
+            break;
+        }
+        basis.swap_rows(r, row);
+        let pivot = basis[(r, col)];
+        for c in 0..n {
+            basis[(r, c)] /= pivot;
+        }
+        for other in 0..k {
+            let factor = basis[(other, col)];
+            if other != r && factor != 0.0 {
+                for c in 0..n {
+                    basis[(other, c)] -= factor * basis[(r, c)];
+                }
+            }
+        }
+        pivots.push(col);
     }
-    AnalysisError::Singular { states, rates }
+    let mut motions: Vec<Vec<usize>> = (0..pivots.len())
+        .map(|r| {
+            let big = basis.row(r).amax();
+            (0..n)
+                .filter(|&c| basis[(r, c)].abs() >= 0.1 * big)
+                .collect()
+        })
+        .collect();
+    motions.sort();
+    motions
 }

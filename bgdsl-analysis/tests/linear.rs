@@ -119,12 +119,76 @@ fn a_free_mass_has_no_equilibrium_and_the_error_names_its_states() {
         SteadyOptions::default(),
     )
     .unwrap_err();
-    let AnalysisError::Singular { states, rates } = &error else {
+    let AnalysisError::Singular {
+        states,
+        rates,
+        motions,
+    } = &error
+    else {
         panic!("{error}");
     };
     assert_eq!(states, &["position".to_string()], "{error}");
     assert_eq!(rates, &["mass.p".to_string()], "{error}");
-    assert!(error.to_string().contains("`position`"), "{error}");
+    assert_eq!(motions, &[vec!["position".to_string()]], "{error}");
+    assert!(
+        error.to_string().starts_with(
+            "the Jacobian ∂f/∂x is singular: the equilibrium does not determine \
+                          `position` (nothing pulls them back"
+        ),
+        "{error}"
+    );
+}
+
+bond_graph! {
+    /// Two tanks joined by a pipe: the charge moves between them, its total is free.
+    model Tanks {
+        param c1 = 2.0 in "F";
+        param c2 = 3.0 in "F";
+        param r = 0.5 in "Ω";
+        C left = c1;
+        C right = c2;
+        R pipe = r;
+        0 a;
+        0 b;
+        1 flow;
+        a -> left;
+        b -> right;
+        a -> flow -> b;
+        flow -> pipe;
+    }
+}
+
+/// Charge conservation: the total charge of two tanks joined by a pipe is free (any
+/// split with equal pressures q1/c1 = q2/c2 is an equilibrium), so the null space is
+/// the one motion (c1, c2) of both states together, and the left null space the sum of
+/// their rates (d(q1 + q2)/dt = 0: no state changes it).
+#[test]
+fn two_joined_tanks_have_one_free_motion_of_both_charges() {
+    let error = equilibrium(
+        &Tanks::default(),
+        &[1.0, 0.0],
+        &[],
+        SteadyOptions::default(),
+    )
+    .unwrap_err();
+    let AnalysisError::Singular {
+        states,
+        rates,
+        motions,
+    } = &error
+    else {
+        panic!("{error}");
+    };
+    let both = vec!["left.q".to_string(), "right.q".to_string()];
+    assert_eq!(motions, std::slice::from_ref(&both), "{error}");
+    assert_eq!(states, &both, "{error}");
+    assert_eq!(rates, &both, "{error}");
+    assert!(
+        error
+            .to_string()
+            .contains("; free motions of several states: `left.q` with `right.q`, and"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -4,12 +4,14 @@
 //! usage errors (nothing written).
 
 mod analysis_common;
+mod common;
 
 use std::f64::consts::PI;
 
-use analysis_common::{assert_png, csv, names, run, scratch, yaml, MODELS};
+use analysis_common::{assert_png, csv, names, run, yaml, MODELS};
 use bgdsl_cli::{catalogue, Catalogue};
 use bgdsl_runtime::bond_graph;
+use common::Scratch;
 use std::sync::LazyLock;
 
 bond_graph! {
@@ -60,7 +62,7 @@ fn butterworth(omega: f64) -> (f64, f64) {
 /// 0.159 Hz), within 1e-9 dB and 1e-7° of the transfer function.
 #[test]
 fn the_butterworth_ladder_follows_its_transfer_function() {
-    let dir = scratch("bode-butterworth");
+    let dir = Scratch::new("bode-butterworth");
     let out = dir.join("filter");
     run(
         &MODELS,
@@ -143,7 +145,7 @@ fn the_butterworth_ladder_follows_its_transfer_function() {
 /// rad/s (0.159 Hz), so 0.01 Hz to 10 Hz, 200 points; and every output by default.
 #[test]
 fn the_default_band_spans_the_modes_in_whole_decades() {
-    let dir = scratch("bode-default");
+    let dir = Scratch::new("bode-default");
     let out = dir.join("filter");
     run(
         &MODELS,
@@ -164,7 +166,7 @@ fn the_default_band_spans_the_modes_in_whole_decades() {
 /// position per force of a damped oscillator, `1/(m s² + c s + k)`.
 #[test]
 fn a_users_own_oscillator_follows_its_transfer_function() {
-    let dir = scratch("bode-own");
+    let dir = Scratch::new("bode-own");
     let out = dir.join("driven");
     run(
         &OWN,
@@ -211,7 +213,7 @@ fn a_users_own_oscillator_follows_its_transfer_function() {
 
 #[test]
 fn bad_bands_and_names_are_usage_errors_that_write_nothing() {
-    let dir = scratch("bode-errors");
+    let dir = Scratch::new("bode-errors");
     let out = dir.join("set");
     let o = out.to_str().unwrap();
     for (args, words) in [

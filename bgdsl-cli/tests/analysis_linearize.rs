@@ -5,10 +5,12 @@
 //! response in closed form) and `--at steady` (the DC motor's closed-form speed).
 
 mod analysis_common;
+mod common;
 
 use std::fs;
 
-use analysis_common::{assert_png, close, csv, names, rows, run, scratch, strings, yaml, MODELS};
+use analysis_common::{assert_png, close, csv, names, rows, run, strings, yaml, MODELS};
+use common::Scratch;
 use models::dc_motor::DcMotorParams;
 use models::quarter_car::QuarterCarParams;
 use models::rlc::SeriesRlcParams;
@@ -52,7 +54,7 @@ fn at(json: &serde_yaml::Value, key: &str, row: (&str, &str), column: (&str, &st
 /// voltage `q/C`.
 #[test]
 fn the_rlc_matrices_are_those_written_by_hand_and_linear_json_has_the_issues_keys() {
-    let dir = scratch("linearize-rlc");
+    let dir = Scratch::new("linearize-rlc");
     let out = dir.join("rlc");
     run(
         &MODELS,
@@ -137,7 +139,7 @@ fn the_rlc_matrices_are_those_written_by_hand_and_linear_json_has_the_issues_key
 /// `m_s m_u s⁴ + c (m_s + m_u) s³ + (k_s m_s + k_s m_u + k_t m_s) s² + c k_t s + k_s k_t`.
 #[test]
 fn the_quarter_cars_matrix_and_modes_match_its_characteristic_polynomial() {
-    let dir = scratch("linearize-quarter-car");
+    let dir = Scratch::new("linearize-quarter-car");
     let out = dir.join("car");
     run(
         &MODELS,
@@ -244,7 +246,7 @@ fn the_quarter_cars_matrix_and_modes_match_its_characteristic_polynomial() {
 /// within 1e-6 of their scales V/(L ω_d) and C V at rtol 1e-10.
 #[test]
 fn an_operating_point_at_a_time_is_the_state_a_run_reaches() {
-    let dir = scratch("linearize-at-time");
+    let dir = Scratch::new("linearize-at-time");
     let out = dir.join("rlc");
     run(
         &MODELS,
@@ -295,7 +297,7 @@ fn an_operating_point_at_a_time_is_the_state_a_run_reaches() {
 /// declared inputs has a B with no columns unless a parameter is named.
 #[test]
 fn the_steady_operating_point_is_the_equilibrium() {
-    let dir = scratch("linearize-steady");
+    let dir = Scratch::new("linearize-steady");
     let out = dir.join("motor");
     run(
         &MODELS,
@@ -334,7 +336,7 @@ fn the_steady_operating_point_is_the_equilibrium() {
 
 #[test]
 fn an_unknown_input_is_a_usage_error_naming_the_candidates() {
-    let dir = scratch("linearize-unknown");
+    let dir = Scratch::new("linearize-unknown");
     let out = dir.join("rlc");
     let failure = run(
         &MODELS,

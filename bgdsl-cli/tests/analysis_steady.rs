@@ -5,13 +5,15 @@
 //! existing results folder byte-identical; an unknown state is a usage error.
 
 mod analysis_common;
+mod common;
 
 use std::fs;
 use std::sync::LazyLock;
 
-use analysis_common::{close, contents, names, run, scratch, yaml, MODELS};
+use analysis_common::{close, contents, names, run, yaml, MODELS};
 use bgdsl_cli::{catalogue, Catalogue};
 use bgdsl_runtime::bond_graph;
+use common::Scratch;
 use models::dc_motor::DcMotorParams;
 
 bond_graph! {
@@ -106,7 +108,7 @@ fn dc_motor_closed_form(p: &DcMotorParams) -> (f64, f64) {
 
 #[test]
 fn the_dc_motor_settles_at_its_closed_form_speed_and_current() {
-    let dir = scratch("steady-dc-motor");
+    let dir = Scratch::new("steady-dc-motor");
     for (voltage, set) in [(12.0, None), (24.0, Some("voltage=24"))] {
         let out = dir.join(format!("v{voltage}"));
         let mut args = vec!["steady", "dc_motor", "--out", out.to_str().unwrap()];
@@ -152,7 +154,7 @@ fn the_dc_motor_settles_at_its_closed_form_speed_and_current() {
 /// working directory, so the test names it with `--out` to stay in its scratch).
 #[test]
 fn a_users_own_model_hangs_at_its_static_deflection() {
-    let dir = scratch("steady-own");
+    let dir = Scratch::new("steady-own");
     let out = dir.join("hanging");
     run(
         &OWN,
@@ -180,7 +182,7 @@ fn a_users_own_model_hangs_at_its_static_deflection() {
 /// `m F / b`), the position stays at its guess and its rate is that speed.
 #[test]
 fn a_held_position_leaves_the_speed_at_force_over_drag() {
-    let dir = scratch("steady-held");
+    let dir = Scratch::new("steady-held");
     let out = dir.join("pushed");
     run(
         &OWN,
@@ -216,7 +218,7 @@ fn a_held_position_leaves_the_speed_at_force_over_drag() {
 /// the folder of an earlier analysis keeps every byte; nothing else is left beside it.
 #[test]
 fn a_singular_equilibrium_names_the_states_and_leaves_the_folder_alone() {
-    let dir = scratch("steady-singular");
+    let dir = Scratch::new("steady-singular");
     let out = dir.join("set");
     run(&OWN, &["steady", "hanging", "--out", out.to_str().unwrap()]).unwrap();
     let before = contents(&out);
@@ -240,7 +242,7 @@ fn a_singular_equilibrium_names_the_states_and_leaves_the_folder_alone() {
 
 #[test]
 fn an_unknown_state_is_a_usage_error_that_lists_the_states() {
-    let dir = scratch("steady-unknown");
+    let dir = Scratch::new("steady-unknown");
     let out = dir.join("set");
     let failure = run(
         &OWN,
@@ -269,7 +271,7 @@ fn an_unknown_state_is_a_usage_error_that_lists_the_states() {
 /// text; a sweep is refused (one model, one analysis) with nothing written.
 #[test]
 fn a_scenario_sets_parameters_and_a_sweep_is_refused() {
-    let dir = scratch("steady-scenario");
+    let dir = Scratch::new("steady-scenario");
     let scenario = dir.join("motor.yaml");
     fs::write(
         &scenario,
@@ -338,7 +340,7 @@ fn a_scenario_sets_parameters_and_a_sweep_is_refused() {
 /// content untouched; `--no-plots` leaves the data and the page.
 #[test]
 fn a_foreign_folder_is_refused_and_no_plots_draws_nothing() {
-    let dir = scratch("steady-foreign");
+    let dir = Scratch::new("steady-foreign");
     let foreign = dir.join("mine");
     fs::create_dir_all(&foreign).unwrap();
     fs::write(foreign.join("notes.txt"), "keep me").unwrap();
@@ -374,4 +376,45 @@ fn a_foreign_folder_is_refused_and_no_plots_draws_nothing() {
             .any(|f| f.ends_with(".png") || f.ends_with(".svg")),
         "{files:?}"
     );
+}
+
+/// The quick return at rest has no equilibrium: its five bodies' poses (rotation
+/// matrix `R` and position `r`) are integrals of their velocities that no force
+/// depends on, and so is each slide joint's coordinate along its guide (`j3C`, `j5C`:
+/// no stiffness there). The message groups the 62 undetermined states by element,
+/// counts a vector state's components, and caps the 92 rates' list with a count. The
+/// exact text is pinned: a change in the grouping, the order or the null space shows.
+#[test]
+fn the_quick_returns_singular_message_groups_the_free_states_by_body() {
+    let dir = Scratch::new("steady-quick-return");
+    let out = dir.join("set");
+    let failure = run(
+        &MODELS,
+        &["steady", "quick_return", "--out", out.to_str().unwrap()],
+    )
+    .unwrap_err();
+    assert_eq!(failure.exit_code(), 1, "{failure}");
+    let message = failure.to_string();
+    let body = |name: &str| format!("{name}: `R` (9 components), `r_x`, `r_y`, `r_z`");
+    let bodies: Vec<String> = ["crank", "slider", "rocker", "rod", "output_slider"]
+        .iter()
+        .map(|b| body(b))
+        .collect();
+    let free = format!(
+        "the equilibrium does not determine 62 states (j3C: `spring.q_x`; j5C: \
+         `spring.q_x`; {}) (nothing pulls them back",
+        bodies.join("; ")
+    );
+    assert!(message.contains(&free), "{message}");
+    assert!(
+        message.contains("no state cancels the rates of 92 states (slider: `rotation.p_y`, "),
+        "{message}"
+    );
+    assert!(message.contains("; and 25 more states); hold"), "{message}");
+    // Every motion is one state: no coupled motions are listed.
+    assert!(
+        !message.contains("free motions of several states"),
+        "{message}"
+    );
+    assert!(!out.exists());
 }

@@ -2,6 +2,8 @@
 //! defaults, the entry builder, a generic run checked against the closed form, and the
 //! extras hooks (a recorder, a results file, a summary line, an `index.html` section).
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -13,6 +15,7 @@ use bgdsl_cli::catalog::{
 use bgdsl_cli::scenario::{resolve, Job, Overrides, Scenario};
 use bgdsl_cli::{Catalogue, Entry};
 use bgdsl_runtime::{bond_graph, Recorder, Solver};
+use common::Scratch;
 
 bond_graph! {
     /// A mass on a spring, undamped: `x(t) = x0 cos(ω t)` with `ω = sqrt(k / m)`.
@@ -103,24 +106,6 @@ static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| {
     )
 });
 
-/// A fresh scratch folder (removed when dropped).
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("bgdsl-cli-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
 /// The run plan of model `name` with `--set` settings, into `out`, without figures.
 fn plan(name: &str, set: &[&str], out: &Path) -> Result<RunPlan, String> {
     let scenario = Scenario {
@@ -165,7 +150,7 @@ fn the_macro_names_the_package_and_snake_cases_the_model() {
 #[test]
 fn a_generic_run_follows_the_closed_form() {
     let dir = Scratch::new("closed-form");
-    let out = dir.0.join("run");
+    let out = dir.join("run");
     let entry = CATALOGUE.find("mass_spring").unwrap();
     let plan = plan("mass_spring", &["m=0.25"], &out).unwrap();
     let outcome = entry.model.run(entry, &plan, &Silent).unwrap();
@@ -202,19 +187,19 @@ fn a_generic_run_follows_the_closed_form() {
 #[test]
 fn the_entry_checks_reject_unphysical_parameters() {
     let dir = Scratch::new("checks");
-    let err = plan("counted", &["m=0"], &dir.0.join("run")).unwrap_err();
+    let err = plan("counted", &["m=0"], &dir.join("run")).unwrap_err();
     assert!(
         err.contains("--set m=0: parameter `m` (mass, kg) must be > 0, found 0"),
         "{err}"
     );
     // The entry without checks takes it (only "finite" applies).
-    assert!(plan("mass_spring", &["m=0"], &dir.0.join("run")).is_ok());
+    assert!(plan("mass_spring", &["m=0"], &dir.join("run")).is_ok());
 }
 
 #[test]
 fn extras_record_write_and_add_to_the_summary_and_the_page() {
     let dir = Scratch::new("extras");
-    let out = dir.0.join("run");
+    let out = dir.join("run");
     let entry = CATALOGUE.find("counted").unwrap();
     let plan = plan("counted", &[], &out).unwrap();
     let before = STARTED.load(Ordering::SeqCst);
@@ -318,4 +303,26 @@ fn run_and_the_analyses_share_the_model_flags_and_their_help() {
             "`{name}`'s flags are described as `run`'s"
         );
     }
+}
+
+/// The shared scratch folder is removed when its test passes and kept, for inspection,
+/// when its test fails (dropped while the thread panics).
+#[test]
+fn a_scratch_folder_is_kept_only_when_its_test_fails() {
+    let passed = Scratch::new("passes");
+    fs::write(passed.join("file"), "x").unwrap();
+    let path = passed.to_path_buf();
+    drop(passed);
+    assert!(!path.exists());
+    let failed = std::thread::spawn(|| {
+        let dir = Scratch::new("fails");
+        fs::write(dir.join("file"), "x").unwrap();
+        let path = dir.to_path_buf();
+        std::panic::panic_any(path);
+    })
+    .join()
+    .unwrap_err();
+    let kept = failed.downcast::<PathBuf>().unwrap();
+    assert!(kept.join("file").is_file());
+    fs::remove_dir_all(*kept).unwrap();
 }

@@ -3,14 +3,17 @@
 //! figures getting neither state charts nor the energy balance (its page still shows
 //! the causal graph).
 
+mod common;
+
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::LazyLock;
 
 use bgdsl_cli::catalog::{Extras, Plots, RunPlan, Silent, STATE_CHART_LIMIT};
 use bgdsl_cli::scenario::{resolve, Job, Overrides, Scenario};
 use bgdsl_cli::{Catalogue, Entry};
 use bgdsl_runtime::bond_graph;
+use common::Scratch;
 
 bond_graph! {
     /// Seven undamped mass-spring pairs side by side: fourteen states.
@@ -49,24 +52,6 @@ static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| {
             .extras(OwnFigures),
     )
 });
-
-/// A fresh scratch folder (removed when dropped).
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("bgdsl-cli-gen-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The plan of `name` over 1 s with `plots`, into `out`.
 fn plan(name: &str, plots: Option<&str>, out: &Path) -> RunPlan {
@@ -116,17 +101,17 @@ fn run(name: &str, plots: Option<&str>, dir: &Path) -> (Vec<String>, String, Str
 fn many_states_are_drawn_only_when_named() {
     const { assert!(Seven::N_STATES > STATE_CHART_LIMIT) };
     let dir = Scratch::new("many");
-    let (images, summary, page) = run("seven", None, &dir.0);
+    let (images, summary, page) = run("seven", None, &dir);
     assert_eq!(images, ["energy_balance.png", "x1.png"]);
     assert!(
         summary.contains("\nenergy balance largest residual "),
         "{summary}"
     );
     assert!(page.contains("<section id=\"causal-graph\">"));
-    let (images, _, _) = run("seven", Some("[m3.p, x1]"), &dir.0);
+    let (images, _, _) = run("seven", Some("[m3.p, x1]"), &dir);
     assert_eq!(images, ["state_m3_p.png", "x1.png"]);
     assert_eq!(
-        plan("seven", Some("[m3.p]"), &dir.0.join("p")).plots,
+        plan("seven", Some("[m3.p]"), &dir.join("p")).plots,
         Plots::Only(vec!["m3.p".into()])
     );
 }
@@ -134,7 +119,7 @@ fn many_states_are_drawn_only_when_named() {
 #[test]
 fn extras_with_figures_of_their_own_opt_out() {
     let dir = Scratch::new("own");
-    let (images, summary, page) = run("own", None, &dir.0);
+    let (images, summary, page) = run("own", None, &dir);
     // The outputs the entry records by default are still charted (the extras' hook
     // rule); no states, no energy balance.
     assert_eq!(images, ["x1.png"]);

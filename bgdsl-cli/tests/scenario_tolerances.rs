@@ -3,6 +3,8 @@
 //! `Simulation::set_atol` / `set_non_negative` with the same settings, and a wrong
 //! state name is an error at its line.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::LazyLock;
@@ -11,6 +13,7 @@ use bgdsl_cli::catalog::{RunPlan, Silent};
 use bgdsl_cli::scenario::{parse, resolve, Diagnostics, Job, Overrides};
 use bgdsl_cli::Catalogue;
 use bgdsl_runtime::{bond_graph, FromParams, Model, Simulation};
+use common::Scratch;
 
 bond_graph! {
     /// A damped mass on a spring, started displaced: its position decays through zero
@@ -31,24 +34,6 @@ bond_graph! {
 }
 
 static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| bgdsl_cli::catalogue![Damped]);
-
-/// A fresh scratch folder (removed when dropped).
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("bgdsl-cli-tol-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The plan of the scenario `text` (with `flags`), into `out`, or its diagnostics as
 /// text.
@@ -169,7 +154,7 @@ fn atols(q: f64, p: f64) -> Vec<f64> {
 #[test]
 fn per_state_atol_is_the_run_of_set_atol() {
     let dir = Scratch::new("atol");
-    let plan = plan(PER_STATE, Overrides::default(), &dir.0.join("run")).unwrap();
+    let plan = plan(PER_STATE, Overrides::default(), &dir.join("run")).unwrap();
     assert_eq!(plan.atol, Some(atols(1e-9, 1e-2)));
     let ran = program_run(&plan);
     let expected = direct(&plan, Some(&atols(1e-9, 1e-2)), &[]);
@@ -195,7 +180,7 @@ fn the_flag_replaces_only_the_default() {
         atol: Some(1e-4),
         ..Overrides::default()
     };
-    let plan = plan(PER_STATE, flags, &dir.0).unwrap();
+    let plan = plan(PER_STATE, flags, &dir).unwrap();
     assert_eq!(plan.atol, Some(atols(1e-9, 1e-4)));
 }
 
@@ -203,7 +188,7 @@ fn the_flag_replaces_only_the_default() {
 fn a_scalar_atol_sets_no_per_state_list() {
     let dir = Scratch::new("scalar");
     let text = "model: damped\nsolver: {method: radau5, atol: 1.0e-7}\n";
-    let plan = plan(text, Overrides::default(), &dir.0).unwrap();
+    let plan = plan(text, Overrides::default(), &dir).unwrap();
     assert_eq!(plan.atol, None);
     assert!(matches!(plan.solver, bgdsl_runtime::Solver::Radau5(o) if o.atol == 1e-7));
 }
@@ -225,7 +210,7 @@ solver:
   atol: 1.0e-2
   non_negative: [spring.q]
 ";
-    let plan = plan(text, Overrides::default(), &dir.0.join("run")).unwrap();
+    let plan = plan(text, Overrides::default(), &dir.join("run")).unwrap();
     let q = state("spring.q");
     assert_eq!(plan.non_negative, [q]);
     let ran = program_run(&plan);
@@ -256,7 +241,7 @@ solver:
     mass.p: -1.0
   non_negative: [spring.q, nothing]
 ";
-    let err = plan(text, Overrides::default(), &dir.0).unwrap_err();
+    let err = plan(text, Overrides::default(), &dir).unwrap_err();
     assert_eq!(
         err,
         "tol.yaml:4:5: unknown state `spring.x`; the states of damped are: mass.p, spring.q\n\
@@ -274,7 +259,7 @@ solver:
   atol: {spring.q: 1.0e-9}
   non_negative: [spring.q]
 ";
-    let err = plan(text, Overrides::default(), &dir.0).unwrap_err();
+    let err = plan(text, Overrides::default(), &dir).unwrap_err();
     assert_eq!(
         err,
         "tol.yaml:4:3: atol does not apply to the fixed-step solver rk4; set `step`\n\
@@ -287,7 +272,7 @@ solver:
 fn a_wrong_type_is_a_shape_error() {
     let dir = Scratch::new("type");
     let text = "model: damped\nsolver:\n  atol: [1, 2]\n";
-    let err = plan(text, Overrides::default(), &dir.0).unwrap_err();
+    let err = plan(text, Overrides::default(), &dir).unwrap_err();
     assert_eq!(
         err,
         "tol.yaml:3:3: solver.atol: invalid type: sequence, expected f64"

@@ -1,10 +1,10 @@
 //! What the analysis commands' tests share: running a command line in-process over a
-//! catalogue, scratch folders, and reading the files back.
+//! catalogue, and reading the files back (scratch folders: `common::Scratch`).
 #![allow(dead_code)]
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::LazyLock;
 
 use bgdsl_cli::cli::{command, execute, Cli, Failure};
@@ -22,15 +22,6 @@ pub fn run(catalogue: &'static Catalogue, args: &[&str]) -> Result<(), Failure> 
         .unwrap_or_else(|e| panic!("{args:?}: {e}"));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| panic!("{e}"));
     execute(cli, catalogue)
-}
-
-/// A fresh scratch folder for test `name` (removed first if a previous run left it).
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("analysis-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// The names in `dir`, sorted.
