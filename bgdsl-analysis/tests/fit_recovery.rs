@@ -232,7 +232,7 @@ const MIN_COVERED: usize = 182;
 /// narrow (measured: 162 and 169 of 200 covered, `Σ z²` 386 and 376; per column: 192
 /// and 190, `Σ z²` 201 and 180).
 ///
-/// 800 fits, started at the truth: about 4 s in a debug build.
+/// 400 fits started at the truth: about 5 s of CPU time in a debug build.
 #[test]
 fn intervals_cover_the_truth_at_their_rate_with_unequal_noise_per_column() {
     let truth = Motor::default();
