@@ -1,5 +1,6 @@
 //! Measured signals: a CSV file whose first column is the time (`t` or `time`) and whose
-//! other columns are named like the model's outputs.
+//! other columns are named like the model's outputs; optionally, each column's known
+//! noise standard deviation.
 
 use super::FitError;
 
@@ -13,6 +14,10 @@ pub struct Measurements {
     /// One column per name, one value per time (NaN where a cell is empty: not
     /// measured then).
     pub values: Vec<Vec<f64>>,
+    /// Per column, the noise's standard deviation when it is known (in the column's
+    /// unit): the fit then weighs the column by `1/σ²` as given and checks the
+    /// residuals against it (χ²). `None`: estimated from the fit's residuals.
+    pub sigma: Vec<Option<f64>>,
 }
 
 impl Measurements {
@@ -83,8 +88,41 @@ impl Measurements {
         }
         Ok(Measurements {
             times,
+            sigma: vec![None; names.len()],
             names,
             values,
         })
+    }
+
+    /// States that column `name`'s noise has the standard deviation `sigma` (in the
+    /// column's unit).
+    ///
+    /// # Errors
+    /// [`FitError::BadNoise`] when there is no such column or `sigma` is not a positive
+    /// finite number.
+    pub fn set_sigma(&mut self, name: &str, sigma: f64) -> Result<(), FitError> {
+        let bad = |message: String| FitError::BadNoise {
+            column: name.to_owned(),
+            message,
+        };
+        let c = self.names.iter().position(|n| n == name).ok_or_else(|| {
+            bad(format!(
+                "no such measured column (the columns: {})",
+                self.names.join(", ")
+            ))
+        })?;
+        if !(sigma.is_finite() && sigma > 0.0) {
+            return Err(bad(format!(
+                "the noise's standard deviation must be a positive number, not {sigma}"
+            )));
+        }
+        self.sigma.resize(self.names.len(), None);
+        self.sigma[c] = Some(sigma);
+        Ok(())
+    }
+
+    /// Column `c`'s known noise standard deviation, if given.
+    pub fn sigma_of(&self, c: usize) -> Option<f64> {
+        self.sigma.get(c).copied().flatten()
     }
 }

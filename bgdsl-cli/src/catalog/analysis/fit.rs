@@ -1,10 +1,12 @@
 //! `models fit`: least-squares estimation of parameter values of a catalogue model from
 //! measured signals ([`bgdsl_analysis::fit`]: Levenberg–Marquardt on exact
-//! sensitivities, bounds, 95 % intervals), the model's values at the measured times
-//! before and after, and its results set (`fit.json`, `fit.yaml`, `fitted.csv`,
+//! sensitivities, a noise variance per column, bounds, 95 % intervals), the model's
+//! values at the measured times before and after, and its results set (`fit.json`, `fit.yaml`, `fitted.csv`,
 //! `fitted.yaml`, figures, `index.html`, `run.yaml`).
 
-use bgdsl_analysis::fit::{fit, FitError, FitOptions, FitParameter, FitReport, Measurements};
+use bgdsl_analysis::fit::{
+    fit, FitError, FitOptions, FitParameter, FitReport, Measurements, NoiseModel,
+};
 use bgdsl_analysis::sensitivity::parameter_index;
 use bgdsl_runtime::{FromParams, Model, Simulation, Solver};
 use serde::de::DeserializeOwned;
@@ -50,7 +52,8 @@ fn failure(e: FitError) -> AnalysisFailure {
         e @ (FitError::Data { .. }
         | FitError::UnknownColumn { .. }
         | FitError::TooFewData { .. }
-        | FitError::BadParameter { .. }) => AnalysisFailure::Usage(e.to_string()),
+        | FitError::BadParameter { .. }
+        | FitError::BadNoise { .. }) => AnalysisFailure::Usage(e.to_string()),
         e => AnalysisFailure::Failed(format!("the fit failed: {e}")),
     }
 }
@@ -143,19 +146,16 @@ fn sample_outputs<M: Model>(
 }
 
 /// The fit's cost as the library minimises it: over every measured column, the sum of
-/// `((model − measured) / s)²`, `s` the column's root mean square (measured samples
-/// only; empty cells are left out).
-pub fn cost(data: &Measurements, model: &[Vec<f64>]) -> f64 {
+/// `((model − measured) / σ)²`, `σ` the column's noise standard deviation (`sigma`, as
+/// the fit used it; measured samples only, empty cells left out).
+pub fn cost(data: &Measurements, model: &[Vec<f64>], sigma: &[f64]) -> f64 {
     let mut total = 0.0;
-    for (measured, modelled) in data.values.iter().zip(model) {
-        let finite: Vec<f64> = measured.iter().copied().filter(|v| v.is_finite()).collect();
-        let rms = (finite.iter().map(|v| v * v).sum::<f64>() / finite.len().max(1) as f64).sqrt();
-        let scale = if rms > 0.0 { rms } else { 1.0 };
+    for ((measured, modelled), s) in data.values.iter().zip(model).zip(sigma) {
         total += measured
             .iter()
             .zip(modelled)
             .filter(|(m, _)| m.is_finite())
-            .map(|(m, y)| ((y - m) / scale).powi(2))
+            .map(|(m, y)| ((y - m) / s).powi(2))
             .sum::<f64>();
     }
     total
@@ -172,18 +172,27 @@ pub struct FitSummary {
     pub correlation_names: Vec<String>,
     /// The correlation matrix of the estimates, as rows.
     pub correlation: Vec<Vec<f64>>,
-    /// The cost ([`cost`]) with the starting values.
+    /// The cost ([`cost`], with the final σ) with the starting values.
     pub cost_before: f64,
     /// The cost with the estimates.
     pub cost_after: f64,
-    /// The residuals' root mean square per measured column, in its unit.
+    /// How the noise was modelled: `per column` (the default) or `pooled`.
+    pub noise: String,
+    /// Each measured column: its noise σ (given or estimated), weight, residual RMS.
+    pub columns: Vec<ColumnSummary>,
+    /// The residuals against the σ given (when some are given).
+    pub chi_square: Option<ChiSquareSummary>,
+    /// The residuals' root mean square per measured column, in its unit (also in
+    /// `columns`).
     pub residual_rms: Vec<ColumnRms>,
     /// Measured samples used.
     pub residuals: usize,
     /// Residuals less parameters.
     pub degrees_of_freedom: usize,
-    /// The Student quantile `t(0.975, dof)` of the intervals.
-    pub t_quantile: f64,
+    /// Refits with new weights after the first fit (estimating the columns' σ).
+    pub reweightings: usize,
+    /// Whether the estimated σ settled.
+    pub weights_settled: bool,
     /// Levenberg–Marquardt iterations done.
     pub iterations: usize,
     /// Whether the convergence test was met.
@@ -207,12 +216,57 @@ pub struct ParameterSummary {
     pub estimate: f64,
     /// Its standard error.
     pub standard_error: f64,
+    /// The effective degrees of freedom of its variance (Welch–Satterthwaite over the
+    /// columns whose σ is estimated; `null`, infinite, when every σ is given).
+    pub degrees_of_freedom: Option<f64>,
+    /// The Student quantile `t(0.975, degrees_of_freedom)` of its interval.
+    pub t_quantile: f64,
     /// The 95 % confidence interval `[low, high]`.
     pub interval_95: [f64; 2],
     /// The bounds it was held in.
     pub bounds: [f64; 2],
     /// Whether the estimate lies on a bound (its interval then ignores the bound).
     pub at_bound: bool,
+}
+
+/// One column of [`FitSummary::columns`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ColumnSummary {
+    /// The measured column.
+    pub column: String,
+    /// Its unit.
+    pub unit: String,
+    /// Its measured samples.
+    pub samples: usize,
+    /// The noise's standard deviation the fit used, in the column's unit.
+    pub sigma: f64,
+    /// Whether `sigma` was given (`--sigma`), else estimated from the residuals.
+    pub sigma_given: bool,
+    /// The residuals' weight `1/σ²`.
+    pub weight: f64,
+    /// The residuals' root mean square, in the column's unit.
+    pub rms: f64,
+    /// The column's share of the residual degrees of freedom.
+    pub degrees_of_freedom: f64,
+    /// Its residual sum of squares over `σ²` and its degrees of freedom (1 when σ is
+    /// estimated; about 1 when the σ given is right).
+    pub reduced_chi_square: f64,
+}
+
+/// [`FitSummary::chi_square`]: the residuals of the columns whose σ was given.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ChiSquareSummary {
+    /// `Σ RSSₖ/σₖ²` over those columns.
+    pub chi_square: f64,
+    /// Its degrees of freedom.
+    pub degrees_of_freedom: f64,
+    /// χ² over its degrees of freedom.
+    pub reduced: f64,
+    /// The probability of a χ² at least this large if the σ given are right.
+    pub p_value: f64,
+    /// What it says: `consistent`, or the residuals `larger` or `smaller` than the σ
+    /// given (p below 0.01 or above 0.99).
+    pub verdict: String,
 }
 
 /// One column of [`FitSummary::residual_rms`].
@@ -226,8 +280,9 @@ pub struct ColumnRms {
 
 impl FitSummary {
     /// The summary of `found` for model `model`, fitted to `data` within `bounds`.
-    pub fn new(model: &str, data: &Measurements, bounds: &[FitBound], found: &FitFound) -> Self {
+    pub fn new(entry: &Entry, data: &Measurements, bounds: &[FitBound], found: &FitFound) -> Self {
         let report = &found.report;
+        let sigma: Vec<f64> = report.columns.iter().map(|c| c.sigma).collect();
         let n = report.parameters.len();
         let stopping_reason = if report.converged {
             "converged: a step changed the cost, or every parameter, by less than the \
@@ -240,7 +295,7 @@ impl FitSummary {
             )
         };
         FitSummary {
-            model: model.to_owned(),
+            model: entry.name.clone(),
             parameters: report
                 .parameters
                 .iter()
@@ -251,6 +306,8 @@ impl FitSummary {
                     initial: p.initial,
                     estimate: p.value,
                     standard_error: p.standard_error,
+                    degrees_of_freedom: Some(p.degrees_of_freedom).filter(|d| d.is_finite()),
+                    t_quantile: p.t_quantile,
                     interval_95: [p.interval.0, p.interval.1],
                     bounds: [b.lower, b.upper],
                     at_bound: p.at_bound,
@@ -260,19 +317,55 @@ impl FitSummary {
             correlation: (0..n)
                 .map(|i| (0..n).map(|j| report.correlation[(i, j)]).collect())
                 .collect(),
-            cost_before: cost(data, &found.before),
-            cost_after: cost(data, &found.after),
-            residual_rms: report
-                .residual_rms
+            cost_before: cost(data, &found.before, &sigma),
+            cost_after: cost(data, &found.after, &sigma),
+            noise: match report.noise {
+                NoiseModel::Pooled => "pooled",
+                _ => "per column",
+            }
+            .to_owned(),
+            columns: report
+                .columns
                 .iter()
-                .map(|(column, rms)| ColumnRms {
-                    column: column.clone(),
-                    rms: *rms,
+                .map(|c| ColumnSummary {
+                    column: c.name.clone(),
+                    unit: column_unit(&*entry.model, &c.name).0.to_owned(),
+                    samples: c.samples,
+                    sigma: c.sigma,
+                    sigma_given: c.sigma_given,
+                    weight: c.weight,
+                    rms: c.residual_rms,
+                    degrees_of_freedom: c.degrees_of_freedom,
+                    reduced_chi_square: c.reduced_chi_square,
+                })
+                .collect(),
+            chi_square: report.chi_square.map(|c| ChiSquareSummary {
+                chi_square: c.chi_square,
+                degrees_of_freedom: c.degrees_of_freedom,
+                reduced: c.reduced,
+                p_value: c.p_value,
+                verdict: if c.p_value < 0.01 {
+                    "larger: the residuals are larger than the σ given (σ too small, or the \
+                     model misses something)"
+                } else if c.p_value > 0.99 {
+                    "smaller: the residuals are smaller than the σ given (σ too large)"
+                } else {
+                    "consistent: the residuals agree with the σ given"
+                }
+                .to_owned(),
+            }),
+            residual_rms: report
+                .columns
+                .iter()
+                .map(|c| ColumnRms {
+                    column: c.name.clone(),
+                    rms: c.residual_rms,
                 })
                 .collect(),
             residuals: report.n_residuals,
             degrees_of_freedom: report.degrees_of_freedom,
-            t_quantile: report.t_quantile,
+            reweightings: report.reweightings,
+            weights_settled: report.weights_settled,
             iterations: report.iterations,
             converged: report.converged,
             stopping_reason,
@@ -401,7 +494,7 @@ pub fn results_set(
 ) -> AnalysisSet {
     let data = input.data;
     let report = &found.report;
-    let summary_file = FitSummary::new(&entry.name, data, input.bounds, found);
+    let summary_file = FitSummary::new(entry, data, input.bounds, found);
     let json = serde_json::to_string_pretty(&summary_file).unwrap_or_default() + "\n";
     let yaml = serde_yaml::to_string(&summary_file).unwrap_or_default();
     let fitted_names: Vec<String> = report.parameters.iter().map(|p| p.name.clone()).collect();
@@ -453,17 +546,24 @@ pub fn results_set(
             if p.at_bound { ", AT A BOUND" } else { "" }
         ));
     }
-    let rms: Vec<String> = report
-        .residual_rms
-        .iter()
-        .map(|(name, rms)| {
-            format!(
-                "{name} {}",
-                with_unit(*rms, column_unit(&*entry.model, name).0)
-            )
-        })
-        .collect();
-    summary.push_str(&format!("residual RMS   {}\n", rms.join(", ")));
+    for c in &summary_file.columns {
+        summary.push_str(&format!(
+            "{:<14} σ {} ({}), residual RMS {}\n",
+            c.column,
+            with_unit(c.sigma, &c.unit),
+            if c.sigma_given { "given" } else { "estimated" },
+            with_unit(c.rms, &c.unit),
+        ));
+    }
+    if let Some(chi) = &summary_file.chi_square {
+        summary.push_str(&format!(
+            "χ² check       χ²/dof = {} ({} dof), p = {}: {}\n",
+            crate::catalog::format_significant(chi.reduced),
+            crate::catalog::format_significant(chi.degrees_of_freedom),
+            crate::catalog::format_significant(chi.p_value),
+            chi.verdict
+        ));
+    }
     let n = report.parameters.len();
     let mut pairs = Vec::new();
     for i in 0..n {
@@ -507,12 +607,52 @@ pub fn results_set(
         ));
     }
     table.push_str(&format!(
-        "</table><p>{}. Intervals: ± t(0.975, {}) = {:.4} standard errors, from the \
-         covariance σ² (JᵀJ)⁻¹ at the estimate.</p>",
+        "</table><p>{}. Intervals: ± t(0.975, ν) standard errors (ν, the effective \
+         degrees of freedom of each estimate's variance: {}), from the covariance \
+         (JᵀWJ)⁻¹ at the estimate, W = diag(1/σ²) with each column's σ below.</p>",
         html(&summary_file.stopping_reason),
-        report.degrees_of_freedom,
-        report.t_quantile
+        report
+            .parameters
+            .iter()
+            .map(|p| format!(
+                "{} {:.1}, t = {:.4}",
+                html(&p.name),
+                p.degrees_of_freedom,
+                p.t_quantile
+            ))
+            .collect::<Vec<_>>()
+            .join("; ")
     ));
+    table.push_str(
+        "<h2>Noise</h2><table><tr><th>column</th><th>σ</th><th></th><th>weight 1/σ²</th>\
+         <th>residual RMS</th><th>samples</th><th>degrees of freedom</th><th>unit</th></tr>",
+    );
+    for c in &summary_file.columns {
+        table.push_str(&format!(
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{:.2}</td><td>{}</td></tr>",
+            html(&c.column),
+            c.sigma,
+            if c.sigma_given { "given" } else { "estimated" },
+            c.weight,
+            c.rms,
+            c.samples,
+            c.degrees_of_freedom,
+            html(&c.unit)
+        ));
+    }
+    table.push_str("</table>");
+    if let Some(chi) = &summary_file.chi_square {
+        table.push_str(&format!(
+            "<p>χ² against the σ given: {} over {:.1} degrees of freedom (χ²/dof {:.4}), \
+             p = {:.4}: {}.</p>",
+            chi.chi_square,
+            chi.degrees_of_freedom,
+            chi.reduced,
+            chi.p_value,
+            html(&chi.verdict)
+        ));
+    }
 
     let mut record = serde_yaml::Mapping::new();
     record.insert("data".into(), input.data_file.into());
@@ -520,6 +660,14 @@ pub fn results_set(
         "columns".into(),
         serde_yaml::to_value(&data.names).unwrap_or_default(),
     );
+    let mut sigma = serde_yaml::Mapping::new();
+    for c in &summary_file.columns {
+        let mut entry = serde_yaml::Mapping::new();
+        entry.insert("sigma".into(), c.sigma.into());
+        entry.insert("given".into(), c.sigma_given.into());
+        sigma.insert(c.column.clone().into(), entry.into());
+    }
+    record.insert("noise".into(), sigma.into());
     let mut estimates = serde_yaml::Mapping::new();
     for (p, b) in report.parameters.iter().zip(input.bounds) {
         let mut entry = serde_yaml::Mapping::new();

@@ -1,11 +1,12 @@
 //! `models fit`: least-squares estimation of parameters from measured signals (a CSV
 //! whose first column is the time and whose others are named like the model's
-//! outputs), with bounds, 95 % intervals and correlations (`fit.json`, `fit.yaml`,
-//! `fitted.csv`, `fitted.yaml`, figures, `index.html`, `run.yaml`).
+//! outputs), with a noise variance per column (given with `--sigma`, else estimated),
+//! bounds, 95 % intervals and correlations (`fit.json`, `fit.yaml`, `fitted.csv`,
+//! `fitted.yaml`, figures, `index.html`, `run.yaml`).
 //!
 //! Everything given is checked before any work (the parameters' names and bounds, the
-//! data file's shape, its columns against the model's outputs), and a failure leaves
-//! the output folder as it was.
+//! data file's shape, its columns against the model's outputs, the σ given), and a
+//! failure leaves the output folder as it was.
 
 use std::path::PathBuf;
 
@@ -39,6 +40,12 @@ pub struct FitArgs {
     /// Fit only these columns of the data (comma-separated, repeatable) [default: all].
     #[arg(long, value_name = "C1,C2")]
     pub columns: Vec<String>,
+    /// A column's known noise standard deviation, in the column's unit, e.g. `--sigma
+    /// current=0.05` (comma-separated, repeatable): the column is weighted by 1/σ² as
+    /// given and the residuals are checked against it (χ²) [default: each column's σ
+    /// estimated from its residuals].
+    #[arg(long, value_name = "C=SIGMA")]
+    pub sigma: Vec<String>,
     /// Levenberg–Marquardt iterations allowed.
     #[arg(long, value_name = "N", default_value_t = 50)]
     pub max_iterations: usize,
@@ -58,6 +65,7 @@ impl Default for FitArgs {
             fit: Vec::new(),
             bound: Vec::new(),
             columns: Vec::new(),
+            sigma: Vec::new(),
             max_iterations: options.max_iterations,
             tolerance: options.tolerance,
         }
@@ -185,6 +193,7 @@ fn measurements(args: &FitArgs, entry: &Entry) -> Result<Measurements, Failure> 
             names.push(name);
             values.push(data.values[c].clone());
         }
+        data.sigma = vec![None; names.len()];
         data.names = names;
         data.values = values;
     }
@@ -216,7 +225,43 @@ fn measurements(args: &FitArgs, entry: &Entry) -> Result<Measurements, Failure> 
             )));
         }
     }
+    apply_sigma(&mut data, &args.sigma)?;
     Ok(data)
+}
+
+/// Applies `--sigma C=SIGMA` flags to the measured columns.
+fn apply_sigma(data: &mut Measurements, flags: &[String]) -> Result<(), Failure> {
+    for flag in names(flags) {
+        let usage = |why: &str| Failure::Usage(format!("--sigma {flag}: {why}"));
+        let (name, value) = flag
+            .split_once('=')
+            .ok_or_else(|| usage("give C=SIGMA, e.g. current=0.05"))?;
+        let name = name.trim();
+        let Some(c) = data.names.iter().position(|n| n == name) else {
+            return Err(usage(&format!(
+                "the data fitted have no column `{name}`; its columns: {}",
+                data.names.join(", ")
+            )));
+        };
+        if data.sigma_of(c).is_some() {
+            return Err(usage(&format!("`{name}` is given twice")));
+        }
+        let sigma = value
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .ok_or_else(|| {
+                usage(&format!(
+                    "`{}` is not a positive number (the noise's standard deviation, in \
+                     the column's unit)",
+                    value.trim()
+                ))
+            })?;
+        data.set_sigma(name, sigma)
+            .map_err(|e| usage(&e.to_string()))?;
+    }
+    Ok(())
 }
 
 /// `models fit ...`.
