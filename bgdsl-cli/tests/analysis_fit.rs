@@ -23,12 +23,14 @@
 //!   leaves a previous results folder as it was.
 
 mod analysis_common;
+mod common;
 
 use std::fs;
 use std::path::Path;
 use std::sync::LazyLock;
 
-use analysis_common::{scratch, yaml};
+use analysis_common::yaml;
+use common::Scratch;
 
 use bgdsl_cli::cli::analysis::fit::FitArgs;
 use bgdsl_cli::cli::analysis::ModelArgs;
@@ -156,7 +158,7 @@ fn fit(args: FitArgs) -> Result<(), bgdsl_cli::cli::Failure> {
 
 #[test]
 fn resistance_and_friction_are_recovered_and_the_fitted_scenario_runs() {
-    let scratch = scratch("fit-recover");
+    let scratch = Scratch::new("fit-recover");
     let data = scratch.join("step.csv");
     let (csv, sigma) = measurements();
     fs::write(&data, csv).unwrap();
@@ -300,7 +302,7 @@ fn fit_with_sigma(data: &Path, out: &Path, sigma: &str) -> serde_yaml::Value {
 
 #[test]
 fn given_sigma_is_used_as_it_is_and_checked_by_chi_square() {
-    let scratch = scratch("fit-sigma");
+    let scratch = Scratch::new("fit-sigma");
     let data = scratch.join("step.csv");
     let (csv, sigma) = measurements();
     fs::write(&data, csv).unwrap();
@@ -347,7 +349,7 @@ fn refused(scratch: &Path, csv: &str, edit: impl FnOnce(&mut FitArgs)) -> String
 
 #[test]
 fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
-    let scratch = scratch("fit-refused");
+    let scratch = Scratch::new("fit-refused");
     let good = "t,current,speed\n0,0,0\n0.1,5,100\n0.2,4,150\n0.3,3,180\n";
     // A previous set in the output folder, from a fit that succeeds.
     let data = scratch.join("good.csv");
@@ -436,7 +438,7 @@ fn bad_data_and_bad_parameters_are_refused_and_leave_the_previous_set() {
         assert!(message.contains(expected), "`{expected}` not in: {message}");
     }
     assert_eq!(fs::read_to_string(out.join("fit.json")).unwrap(), previous);
-    let leftovers: Vec<String> = fs::read_dir(&scratch)
+    let leftovers: Vec<String> = fs::read_dir(&*scratch)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| n.starts_with('.'))

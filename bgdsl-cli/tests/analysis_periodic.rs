@@ -24,7 +24,7 @@
 //!   command refuses with a message saying what to give.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::LazyLock;
 
 use bgdsl_cli::cli::analysis::periodic::PeriodicArgs;
@@ -34,7 +34,9 @@ use bgdsl_cli::Catalogue;
 use bgdsl_runtime::bond_graph;
 
 mod analysis_common;
+mod common;
 use analysis_common::{csv, MODELS};
+use common::Scratch;
 
 /// `orbit.csv` in `out`: header names and rows, every entry a finite number.
 fn orbit_csv(out: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -72,25 +74,6 @@ bond_graph! {
 
 static CATALOGUE: LazyLock<Catalogue> = LazyLock::new(|| bgdsl_cli::catalogue![Forced]);
 
-/// A fresh scratch folder (removed when dropped).
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("bgdsl-periodic-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
 fn args(out: &Path, set: &[&str]) -> PeriodicArgs {
     PeriodicArgs {
         model: ModelArgs {
@@ -123,7 +106,7 @@ fn periodic_in(
 #[test]
 fn the_orbit_and_multipliers_of_a_driven_oscillator_match_the_closed_form() {
     let scratch = Scratch::new("closed-form");
-    let out = scratch.0.join("orbit");
+    let out = scratch.join("orbit");
     let mut a = args(&out, &["c=0.4"]);
     a.drive = Some("omega".to_owned());
     a.points = 50;
@@ -193,7 +176,7 @@ fn the_orbit_and_multipliers_of_a_driven_oscillator_match_the_closed_form() {
 #[test]
 fn the_period_is_required_and_a_drive_parameter_must_be_a_frequency() {
     let scratch = Scratch::new("no-period");
-    let out = scratch.0.join("orbit");
+    let out = scratch.join("orbit");
     let message = periodic(args(&out, &[])).unwrap_err().to_string();
     assert!(
         message.contains("--period") && message.contains("--drive"),
@@ -230,7 +213,7 @@ fn the_period_is_required_and_a_drive_parameter_must_be_a_frequency() {
 #[test]
 fn the_catalogue_duffing_orbit_closes_and_its_multipliers_obey_liouville() {
     let scratch = Scratch::new("duffing");
-    let out = scratch.0.join("orbit");
+    let out = scratch.join("orbit");
     let mut a = args(&out, &[]);
     a.model.target = "duffing".to_owned();
     a.model.no_plots = false;
