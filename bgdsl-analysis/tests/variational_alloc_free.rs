@@ -15,7 +15,6 @@ mod counting;
 use bgdsl_analysis::sensitivity::{
     forward_sensitivities, parameter_index, Sensitivities, SensitivityOptions,
 };
-use bgdsl_runtime::Model;
 use counting::{allocations_in, Counting};
 use models::quick_return::QuickReturn;
 
