@@ -107,8 +107,8 @@ pub(crate) fn propagate<M: Model>(
         let h = (w[1] - w[0]) / substeps as f64;
         for k in 0..substeps {
             let start = w[0] + k as f64 * h;
-            for i in 0..3 {
-                let t = start + C[i] * h;
+            for (i, c) in C.iter().enumerate() {
+                let t = start + c * h;
                 let x = &states[sample * n..(sample + 1) * n];
                 sample += 1;
                 stages.stage(model, (t, x), h, i, s, forcing)?;
