@@ -2,13 +2,16 @@
 //! ratio and the states that take part in each.
 //!
 //! nalgebra gives the eigenvalues of a general real matrix (Schur form) but not its
-//! eigenvectors; each right and left eigenvector here comes from two steps of inverse
-//! iteration on `A − λI` (complex LU), shifted off `λ` by a relative `1e-10` so the
-//! matrix stays invertible. The participation factor of state `i` in mode `k` is
+//! eigenvectors; each right and left eigenvector here comes from three steps of inverse
+//! iteration on `A − λI`, shifted off `λ` by a relative `1e-10` so the matrix stays
+//! invertible. The iteration runs on the real Schur form `A = Q T Qᵀ` computed once
+//! for the eigenvalues: `T − λI` is upper Hessenberg, so each mode costs `O(n²)`
+//! (a pivoted elimination between adjacent rows) instead of a dense complex LU,
+//! `O(n³)`, and the iterates are `Qᵀ` times those on `A − λI`. The participation factor of state `i` in mode `k` is
 //! `|wᵢ vᵢ| / Σⱼ |wⱼ vⱼ|` (Pérez-Arriaga, Verghese and Schweppe, 1982): it does not
 //! depend on the states' units, which a plain eigenvector component does.
 
-use nalgebra::{Complex, DMatrix, DVector};
+use nalgebra::{Complex, DMatrix, DVector, Schur};
 
 /// One mode: an eigenvalue of `A` (for a complex pair, the one with positive
 /// imaginary part stands for both).
@@ -42,14 +45,25 @@ pub fn modes(a: &DMatrix<f64>) -> Vec<Mode> {
     if n == 0 {
         return Vec::new();
     }
-    let eigenvalues = a.complex_eigenvalues();
+    let schur = Schur::new(a.clone());
+    let eigenvalues = schur.complex_eigenvalues();
+    let (q, t) = schur.unpack();
+    let q = q.map(|v| Complex::new(v, 0.0));
+    let start = DVector::from_fn(n, |i, _| {
+        Complex::new(1.0 + (i as f64 * 0.7).sin() * 0.5, 0.3)
+    });
+    let schur = SchurForm {
+        start: q.tr_mul(&start),
+        t: t.map(|v| Complex::new(v, 0.0)),
+        q,
+    };
     let scale = a.amax().max(f64::MIN_POSITIVE);
     let mut modes: Vec<Mode> = eigenvalues
         .iter()
         .filter(|l| l.im >= 0.0)
         .map(|&l| {
-            let v = inverse_iteration(a, l, scale, false);
-            let w = inverse_iteration(a, l, scale, true);
+            let v = inverse_iteration(&schur, l, scale, false);
+            let w = inverse_iteration(&schur, l, scale, true);
             let products: Vec<f64> = v
                 .iter()
                 .zip(w.iter())
@@ -90,38 +104,129 @@ pub fn modes(a: &DMatrix<f64>) -> Vec<Mode> {
     modes
 }
 
-/// An eigenvector of `a` (of `aᵀ` when `left`) for the eigenvalue `lambda`, unit norm.
+/// An eigenvector of `a = Q T Qᵀ` (of `aᵀ` when `left`) for the eigenvalue `lambda`,
+/// unit norm: inverse iteration on the quasi-triangular `T − σI` (`Tᵀ − σI`), whose
+/// iterates are `Qᵀ` times those on `a − σI` from the start `Qᵀ s`.
 fn inverse_iteration(
-    a: &DMatrix<f64>,
+    schur: &SchurForm,
     lambda: Complex<f64>,
     scale: f64,
     left: bool,
 ) -> DVector<Complex<f64>> {
-    let n = a.nrows();
     let shift = lambda + Complex::new(1e-10 * scale, 1e-10 * scale);
-    let m = DMatrix::from_fn(n, n, |i, j| {
-        let entry = if left { a[(j, i)] } else { a[(i, j)] };
-        Complex::new(entry, 0.0)
-            - if i == j {
-                shift
-            } else {
-                Complex::new(0.0, 0.0)
-            }
-    });
-    let lu = m.lu();
-    // A start with every component non-zero and no special direction.
-    let mut v = DVector::from_fn(n, |i, _| {
-        Complex::new(1.0 + (i as f64 * 0.7).sin() * 0.5, 0.3)
-    });
+    let lu = HessenbergLu::new(&schur.t, shift);
+    let mut y = schur.start.clone();
     for _ in 0..3 {
-        let Some(next) = lu.solve(&v) else {
+        let mut next = y.clone();
+        if !lu.solve(&mut next, left) {
             break;
-        };
+        }
         let norm = next.norm();
         if !(norm.is_finite() && norm > 0.0) {
             break;
         }
-        v = next.unscale(norm);
+        y = next.unscale(norm);
     }
-    v
+    &schur.q * y
+}
+
+/// The real Schur form `a = Q T Qᵀ` (`T` quasi-upper-triangular, so upper Hessenberg),
+/// complex, with the inverse iterations' start in its coordinates.
+struct SchurForm {
+    q: DMatrix<Complex<f64>>,
+    t: DMatrix<Complex<f64>>,
+    /// `Qᵀ s`, `s` a start with every component non-zero and no special direction.
+    start: DVector<Complex<f64>>,
+}
+
+/// `H − σI = P L U` for an upper Hessenberg `H` by Gaussian elimination with partial
+/// pivoting: each step pivots between two adjacent rows, so a factorization and a
+/// solve cost `O(n²)`.
+struct HessenbergLu {
+    /// `U`, upper triangular.
+    u: DMatrix<Complex<f64>>,
+    /// Step `k`'s multiplier of row `k` subtracted from row `k + 1`, and whether the two
+    /// rows were swapped first.
+    steps: Vec<(Complex<f64>, bool)>,
+}
+
+impl HessenbergLu {
+    /// Factors `h − shift I` (`h` upper Hessenberg; entries below its subdiagonal are
+    /// taken as zero).
+    fn new(h: &DMatrix<Complex<f64>>, shift: Complex<f64>) -> Self {
+        let n = h.nrows();
+        let zero = Complex::new(0.0, 0.0);
+        let mut u = DMatrix::from_fn(n, n, |i, j| {
+            if i > j + 1 {
+                zero
+            } else if i == j {
+                h[(i, j)] - shift
+            } else {
+                h[(i, j)]
+            }
+        });
+        let mut steps = Vec::with_capacity(n.saturating_sub(1));
+        for k in 0..n.saturating_sub(1) {
+            // Rows k and k + 1 are zero left of column k: swapping whole rows is exact.
+            let swap = u[(k + 1, k)].norm() > u[(k, k)].norm();
+            if swap {
+                u.swap_rows(k, k + 1);
+            }
+            let pivot = u[(k, k)];
+            let l = if pivot == zero {
+                zero
+            } else {
+                u[(k + 1, k)] / pivot
+            };
+            u[(k + 1, k)] = zero;
+            for j in k + 1..n {
+                let ukj = u[(k, j)];
+                u[(k + 1, j)] -= l * ukj;
+            }
+            steps.push((l, swap));
+        }
+        HessenbergLu { u, steps }
+    }
+
+    /// Solves `(H − σI) x = b` (`(H − σI)ᵀ x = b` when `transposed`; no conjugation),
+    /// overwriting `b`; `false` if a pivot is zero.
+    fn solve(&self, b: &mut DVector<Complex<f64>>, transposed: bool) -> bool {
+        let (u, n) = (&self.u, self.u.nrows());
+        if (0..n).any(|i| u[(i, i)] == Complex::new(0.0, 0.0)) {
+            return false;
+        }
+        if transposed {
+            // Uᵀ z = b, then the steps' transposes in reverse order.
+            for i in 0..n {
+                let mut s = b[i];
+                for j in 0..i {
+                    s -= u[(j, i)] * b[j];
+                }
+                b[i] = s / u[(i, i)];
+            }
+            for (k, &(l, swap)) in self.steps.iter().enumerate().rev() {
+                let next = b[k + 1];
+                b[k] -= l * next;
+                if swap {
+                    b.swap_rows(k, k + 1);
+                }
+            }
+        } else {
+            for (k, &(l, swap)) in self.steps.iter().enumerate() {
+                if swap {
+                    b.swap_rows(k, k + 1);
+                }
+                let here = b[k];
+                b[k + 1] -= l * here;
+            }
+            for i in (0..n).rev() {
+                let mut s = b[i];
+                for j in i + 1..n {
+                    s -= u[(i, j)] * b[j];
+                }
+                b[i] = s / u[(i, i)];
+            }
+        }
+        true
+    }
 }

@@ -70,6 +70,8 @@ pub use graph::{CausalGraph, ElementCausality, ElementKind, GraphBond, GraphElem
 pub use jacobian::{
     Colouring, Jacobian, JacobianEvaluator, SparsityError, SparsityPattern, DENSE_HAND_WRITTEN_MAX,
 };
+#[cfg(feature = "std")]
+pub use linalg::ShiftedLu;
 pub use model::{
     unit_of, BodyInfo, FromParams, InputInfo, Model, ModelError, ParameterInfo, PowerBalance,
     SignalInfo, WithInputs,

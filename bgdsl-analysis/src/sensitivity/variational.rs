@@ -9,7 +9,9 @@
 //! a step, and an A-stable but not L-stable method (the trapezoidal rule) would keep
 //! them alive with multipliers near −1, which Floquet analysis would report as neutral.
 
-use bgdsl_runtime::{JacobianEvaluator, Model, Simulation, Solver};
+use std::sync::Arc;
+
+use bgdsl_runtime::{Jacobian, JacobianEvaluator, Model, ShiftedLu, Simulation, Solver};
 use nalgebra::DMatrix;
 
 use crate::error::AnalysisError;
@@ -98,52 +100,18 @@ pub(crate) fn propagate<M: Model>(
     )?;
 
     let m = s.ncols();
-    let mut evaluator = JacobianEvaluator::new(model);
-    let mut jac = DMatrix::<f64>::zeros(n, n);
-    let mut row_major = vec![0.0; n * n];
-    let mut f = DMatrix::<f64>::zeros(n, m);
-    let mut stage_k: [DMatrix<f64>; 3] = core::array::from_fn(|_| DMatrix::zeros(n, m));
+    let mut stages = Stages::new(model, m);
     at_node(0, x0, s);
     let mut sample = 0;
     for (node, w) in grid.windows(2).enumerate() {
         let h = (w[1] - w[0]) / substeps as f64;
         for k in 0..substeps {
             let start = w[0] + k as f64 * h;
-            for i in 0..3 {
-                let t = start + C[i] * h;
+            for (i, c) in C.iter().enumerate() {
+                let t = start + c * h;
                 let x = &states[sample * n..(sample + 1) * n];
                 sample += 1;
-                evaluator.evaluate(model, t, x, &mut row_major);
-                for (r, row) in row_major.chunks_exact(n).enumerate() {
-                    for (c, v) in row.iter().enumerate() {
-                        jac[(r, c)] = *v;
-                    }
-                }
-                forcing.forcing(t, x, &mut f);
-                // (I − hγJ) Y = S + h Σ_{j<i} a_ij K_j + hγ F, then K_i = J Y + F.
-                let mut rhs = s.clone();
-                for (j, kj) in stage_k.iter().enumerate().take(i) {
-                    rhs += kj * (h * a(i, j));
-                }
-                rhs += &f * (h * GAMMA);
-                let mut iteration = &jac * (-h * GAMMA);
-                for d in 0..n {
-                    iteration[(d, d)] += 1.0;
-                }
-                let lu = iteration.lu();
-                if !lu.solve_mut(&mut rhs) {
-                    return Err(AnalysisError::NonFinite {
-                        what: "variational equations (singular I − hγJ)",
-                        name: format!("t = {t}"),
-                    });
-                }
-                let ki = &mut stage_k[i];
-                ki.gemm(1.0, &jac, &rhs, 0.0);
-                *ki += &f;
-                if i == 2 {
-                    // Stiffly accurate: the last stage is the step's result.
-                    s.copy_from(&rhs);
-                }
+                stages.stage(model, (t, x), h, i, s, forcing)?;
             }
         }
         let x_end = &states[(sample - 1) * n..sample * n];
@@ -152,4 +120,99 @@ pub(crate) fn propagate<M: Model>(
     Ok(Propagated {
         accepted: stats.accepted,
     })
+}
+
+/// The SDIRK stages' storage, allocated once per [`propagate`]: the stage's Jacobian
+/// (over the model's sparsity pattern) and its non-zeros, the factors of `σ I − J`
+/// (`σ = 1 / hγ`: the runtime's sparse LU, analysed once), the forcing, the stage
+/// derivatives and the stage value. A stage allocates nothing.
+struct Stages {
+    evaluator: JacobianEvaluator,
+    jac: Jacobian,
+    lu: ShiftedLu,
+    /// The non-zero entries of `jac` (row, column, value): the product `J Y` skips
+    /// the structural zeros (most of the flagship's pattern).
+    nonzeros: Vec<(u32, u32, f64)>,
+    f: DMatrix<f64>,
+    stage_k: [DMatrix<f64>; 3],
+    y: DMatrix<f64>,
+}
+
+impl Stages {
+    /// The storage for `model`'s variational equations with `m` columns.
+    fn new<M: Model>(model: &M, m: usize) -> Self {
+        let n = M::N_STATES;
+        let evaluator = JacobianEvaluator::new(model);
+        let pattern = evaluator.pattern().clone();
+        let lu = ShiftedLu::new(&pattern);
+        let jac = Jacobian::new(Arc::new(pattern));
+        Stages {
+            nonzeros: Vec::with_capacity(jac.nnz()),
+            evaluator,
+            jac,
+            lu,
+            f: DMatrix::zeros(n, m),
+            stage_k: core::array::from_fn(|_| DMatrix::zeros(n, m)),
+            y: DMatrix::zeros(n, m),
+        }
+    }
+
+    /// Stage `i` of the step of length `h` from `s`, at `(t, x)`: solves
+    /// `(I − hγJ) Y = S + h Σ_{j<i} a_ij K_j + hγ F` as
+    /// `(σ I − J) Y = σ S + Σ_{j<i} (a_ij / γ) K_j + F`, then `K_i = J Y + F`; the
+    /// last stage's `Y` is the step's result (stiffly accurate), written to `s`.
+    fn stage<M: Model>(
+        &mut self,
+        model: &M,
+        (t, x): (f64, &[f64]),
+        h: f64,
+        i: usize,
+        s: &mut DMatrix<f64>,
+        forcing: &mut impl Forcing,
+    ) -> Result<(), AnalysisError> {
+        self.evaluator.evaluate_sparse(model, t, x, &mut self.jac);
+        forcing.forcing(t, x, &mut self.f);
+        let sigma = 1.0 / (h * GAMMA);
+        let singular = |_| AnalysisError::NonFinite {
+            what: "variational equations (singular I − hγJ)",
+            name: format!("t = {t}"),
+        };
+        self.lu.factor(sigma, &self.jac).map_err(singular)?;
+        self.y.copy_from(&self.f);
+        add_scaled(&mut self.y, sigma, s);
+        for (j, kj) in self.stage_k.iter().enumerate().take(i) {
+            add_scaled(&mut self.y, a(i, j) / GAMMA, kj);
+        }
+        for mut column in self.y.column_iter_mut() {
+            self.lu.solve(column.as_mut_slice());
+        }
+        self.nonzeros.clear();
+        for r in 0..M::N_STATES {
+            let (cols, values) = self.jac.row(r);
+            for (&c, &v) in cols.iter().zip(values) {
+                if v != 0.0 {
+                    self.nonzeros.push((r as u32, c as u32, v));
+                }
+            }
+        }
+        let ki = &mut self.stage_k[i];
+        ki.copy_from(&self.f);
+        for (mut k_col, y_col) in ki.column_iter_mut().zip(self.y.column_iter()) {
+            let (k_col, y_col) = (k_col.as_mut_slice(), y_col.as_slice());
+            for &(r, c, v) in &self.nonzeros {
+                k_col[r as usize] += v * y_col[c as usize];
+            }
+        }
+        if i == 2 {
+            s.copy_from(&self.y);
+        }
+        Ok(())
+    }
+}
+
+/// `y += alpha x`, entry by entry.
+fn add_scaled(y: &mut DMatrix<f64>, alpha: f64, x: &DMatrix<f64>) {
+    for (y, x) in y.as_mut_slice().iter_mut().zip(x.as_slice()) {
+        *y += alpha * x;
+    }
 }

@@ -28,12 +28,14 @@
 
 mod banded;
 pub(crate) mod bench;
+mod shifted;
 mod sparse;
 mod symbolic;
 
 use std::sync::Arc;
 
 pub(crate) use banded::{Band, ComplexLu, Lu};
+pub use shifted::ShiftedLu;
 pub(crate) use sparse::{SparseLu, SparseRadauLu, Structural};
 
 use crate::jacobian::{Jacobian, SparsityPattern};
