@@ -15,6 +15,7 @@
 //!   for a host's speed controller.
 
 pub mod figures;
+pub mod configuration_springs;
 pub mod model;
 pub mod results;
 pub mod run;
