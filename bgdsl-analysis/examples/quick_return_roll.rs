@@ -22,8 +22,12 @@ use nalgebra::{Complex, DMatrix, DVector};
 /// that couple z to x or y). The monodromy matrix of a planar orbit does not mix them
 /// with the others.
 fn odd(name: &str) -> bool {
-    let angular = name.contains("rotation.p") || name.starts_with("j23r.") || name.starts_with("jC.");
-    if ["R_13", "R_23", "R_31", "R_32"].iter().any(|r| name.ends_with(r)) {
+    let angular =
+        name.contains("rotation.p") || name.starts_with("j23r.") || name.starts_with("jC.");
+    if ["R_13", "R_23", "R_31", "R_32"]
+        .iter()
+        .any(|r| name.ends_with(r))
+    {
         return true;
     }
     if name.contains(".R_") {
@@ -48,9 +52,17 @@ fn odd_states(names: &[&str], orbit: &PeriodicOrbit) -> Vec<usize> {
 /// about X0 and Y0, `δR = skew(δθ) R`) into the states, `P` reads them back (`δθ =
 /// vee(asym(δR Rᵀ))`, `P T = I`), and the block is `P Φ T`. The directions off the
 /// rotation matrices (symmetric `δR Rᵀ`) are left out: they are not motions.
-fn tangent_block(names: &[&str], orbit: &PeriodicOrbit, keep: &[usize]) -> (DMatrix<f64>, DMatrix<f64>) {
+fn tangent_block(
+    names: &[&str],
+    orbit: &PeriodicOrbit,
+    keep: &[usize],
+) -> (DMatrix<f64>, DMatrix<f64>) {
     let n = names.len();
-    let plain: Vec<usize> = keep.iter().copied().filter(|&i| !names[i].contains(".R_")).collect();
+    let plain: Vec<usize> = keep
+        .iter()
+        .copied()
+        .filter(|&i| !names[i].contains(".R_"))
+        .collect();
     let bodies: Vec<String> = names
         .iter()
         .filter_map(|s| s.strip_suffix(".R_11").map(str::to_string))
@@ -62,10 +74,18 @@ fn tangent_block(names: &[&str], orbit: &PeriodicOrbit, keep: &[usize]) -> (DMat
         t[(i, k)] = 1.0;
         p[(k, i)] = 1.0;
     }
-    let index = |body: &str, i: usize, j: usize| names.iter().position(|s| *s == format!("{body}.R_{}{}", i + 1, j + 1)).unwrap();
+    let index = |body: &str, i: usize, j: usize| {
+        names
+            .iter()
+            .position(|s| *s == format!("{body}.R_{}{}", i + 1, j + 1))
+            .unwrap()
+    };
     for (b, body) in bodies.iter().enumerate() {
         let r = Matrix3::from_fn(|i, j| orbit.x0[index(body, i, j)]);
-        for (a, axis) in [Vector3::<f64>::x(), Vector3::<f64>::y()].iter().enumerate() {
+        for (a, axis) in [Vector3::<f64>::x(), Vector3::<f64>::y()]
+            .iter()
+            .enumerate()
+        {
             let col = plain.len() + 2 * b + a;
             let d: Matrix3<f64> = skew(*axis) * r;
             for i in 0..3 {
@@ -74,7 +94,11 @@ fn tangent_block(names: &[&str], orbit: &PeriodicOrbit, keep: &[usize]) -> (DMat
                 }
             }
             // δθ_x = (A32 − A23)/2, δθ_y = (A13 − A31)/2 with A = δR Rᵀ: A_ij = Σ_k δR_ik R_jk.
-            let (u, v) = if a == 0 { ((2, 1), (1, 2)) } else { ((0, 2), (2, 0)) };
+            let (u, v) = if a == 0 {
+                ((2, 1), (1, 2))
+            } else {
+                ((0, 2), (2, 0))
+            };
             for k in 0..3 {
                 p[(col, index(body, u.0, k))] += 0.5 * r[(u.1, k)];
                 p[(col, index(body, v.0, k))] -= 0.5 * r[(v.1, k)];
@@ -87,7 +111,12 @@ fn tangent_block(names: &[&str], orbit: &PeriodicOrbit, keep: &[usize]) -> (DMat
 /// The eigenvalues of Φ's out-of-plane block (`keep`, in tangent coordinates: see
 /// [`tangent_block`]) or of its block `keep` as it is (`tangent` false), largest
 /// modulus first.
-fn block_multipliers_in(names: &[&str], orbit: &PeriodicOrbit, keep: &[usize], tangent: bool) -> Vec<Complex<f64>> {
+fn block_multipliers_in(
+    names: &[&str],
+    orbit: &PeriodicOrbit,
+    keep: &[usize],
+    tangent: bool,
+) -> Vec<Complex<f64>> {
     let phi = &orbit.monodromy;
     let block = if tangent {
         let (t, p) = tangent_block(names, orbit, keep);
@@ -152,7 +181,11 @@ fn report<M: Model>(label: &str, model: &M, period: f64, steps: usize) -> Option
             .collect::<Vec<_>>()
             .join(" ")
     };
-    let in_largest = mu_in.iter().filter(off_one).map(|m| m.norm()).fold(0.0, f64::max);
+    let in_largest = mu_in
+        .iter()
+        .filter(off_one)
+        .map(|m| m.norm())
+        .fold(0.0, f64::max);
     println!(
         "{label:<24} out (tangent): {:<40} raw R entries: {:<40} in (off 1): {in_largest:.4}  all (module): {}",
         show(&mu_out),
@@ -171,7 +204,9 @@ fn flagship(change: impl FnOnce(&mut QuickReturnParams)) -> QuickReturn {
     QuickReturn::from_params(p)
 }
 
-fn variant(change: impl FnOnce(&mut QuickReturnRotationSpringsParams)) -> QuickReturnRotationSprings {
+fn variant(
+    change: impl FnOnce(&mut QuickReturnRotationSpringsParams),
+) -> QuickReturnRotationSprings {
     let mut p = QuickReturnRotationSpringsParams::default();
     change(&mut p);
     QuickReturnRotationSprings::from_params(p)
@@ -187,7 +222,14 @@ fn sweep(steps: usize) {
         ("K_C x10", flagship(|p| p.K_C *= 10.0), t),
         ("R_C x0.1", flagship(|p| p.R_C *= 0.1), t),
         ("R_C x10", flagship(|p| p.R_C *= 10.0), t),
-        ("rocker ly,lz x2 (Jx x4)", flagship(|p| { p.l3[1] *= 2.0; p.l3[2] *= 2.0 }), t),
+        (
+            "rocker ly,lz x2 (Jx x4)",
+            flagship(|p| {
+                p.l3[1] *= 2.0;
+                p.l3[2] *= 2.0
+            }),
+            t,
+        ),
         ("w_drive 2.5", flagship(|p| p.w_drive = 2.5), 2.0 * t),
     ];
     for (label, model, period) in &cases {
@@ -204,7 +246,14 @@ fn variants(steps: usize) {
         ("K_C x10", variant(|p| p.K_C *= 10.0), t),
         ("R_C x0.1", variant(|p| p.R_C *= 0.1), t),
         ("R_C x10", variant(|p| p.R_C *= 10.0), t),
-        ("rocker ly,lz x2 (Jx x4)", variant(|p| { p.l3[1] *= 2.0; p.l3[2] *= 2.0 }), t),
+        (
+            "rocker ly,lz x2 (Jx x4)",
+            variant(|p| {
+                p.l3[1] *= 2.0;
+                p.l3[2] *= 2.0
+            }),
+            t,
+        ),
         ("w_drive 4", variant(|p| p.w_drive = 4.0), 1.25 * t),
     ];
     for (label, model, period) in &cases {
@@ -215,7 +264,9 @@ fn variants(steps: usize) {
 fn main() {
     let mut args = std::env::args().skip(1);
     let what = args.next().unwrap_or_else(|| "all".into());
-    let steps: usize = args.next().map_or(1600, |a| a.parse().expect("a number of steps"));
+    let steps: usize = args
+        .next()
+        .map_or(1600, |a| a.parse().expect("a number of steps"));
     if what == "sweep" || what == "all" {
         sweep(steps);
     }
@@ -225,8 +276,18 @@ fn main() {
     if what == "steps" {
         let t = core::f64::consts::TAU / 5.0;
         for steps in [800, 1600, 3200] {
-            report(&format!("flagship, {steps} steps"), &flagship(|_| {}), t, steps);
-            report(&format!("configuration, {steps} steps"), &variant(|_| {}), t, steps);
+            report(
+                &format!("flagship, {steps} steps"),
+                &flagship(|_| {}),
+                t,
+                steps,
+            );
+            report(
+                &format!("configuration, {steps} steps"),
+                &variant(|_| {}),
+                t,
+                steps,
+            );
         }
     }
     if what == "energy" || what == "all" {
@@ -259,7 +320,12 @@ fn eigenvector(orbit: &PeriodicOrbit, keep: &[usize], mu: f64) -> Vec<f64> {
 fn print_mode<M: Model>(orbit: &PeriodicOrbit, target: f64) {
     let out = odd_states(M::STATE_NAMES, orbit);
     let mu = block_multipliers(orbit, &out);
-    let top = mu.iter().filter(|m| m.im.abs() < 1e-12).min_by(|a, b| (a.re - target).abs().total_cmp(&(b.re - target).abs())).unwrap().re;
+    let top = mu
+        .iter()
+        .filter(|m| m.im.abs() < 1e-12)
+        .min_by(|a, b| (a.re - target).abs().total_cmp(&(b.re - target).abs()))
+        .unwrap()
+        .re;
     let v = eigenvector(orbit, &out, top);
     let mut order: Vec<usize> = (0..v.len()).filter(|&i| v[i] != 0.0).collect();
     order.sort_by(|&a, &b| v[b].abs().total_cmp(&v[a].abs()));
@@ -271,7 +337,10 @@ fn print_mode<M: Model>(orbit: &PeriodicOrbit, target: f64) {
 
 /// A state's value by name.
 fn get(names: &[&str], x: &[f64], name: &str) -> f64 {
-    x[names.iter().position(|n| *n == name).unwrap_or_else(|| panic!("no state {name}"))]
+    x[names
+        .iter()
+        .position(|n| *n == name)
+        .unwrap_or_else(|| panic!("no state {name}"))]
 }
 
 fn rotation(names: &[&str], x: &[f64], body: &str) -> Matrix3<f64> {
@@ -284,10 +353,20 @@ fn rotation(names: &[&str], x: &[f64], body: &str) -> Matrix3<f64> {
 /// configuration spring would.
 fn phantoms(p: &QuickReturnParams, t: f64, x: &[f64]) -> [f64; 2] {
     let names = QuickReturn::STATE_NAMES;
-    let q2 = |j: &str| ["x", "y", "z"].iter().map(|c| get(names, x, &format!("{j}.spring.q_{c}")).powi(2)).sum::<f64>();
+    let q2 = |j: &str| {
+        ["x", "y", "z"]
+            .iter()
+            .map(|c| get(names, x, &format!("{j}.spring.q_{c}")).powi(2))
+            .sum::<f64>()
+    };
     let drive = rot_z(p.theta0 + p.w_drive * t);
     [
-        0.5 * p.K23r * q2("j23r") - rotation_energy(p.K23r, rotation(names, x, "slider"), rotation(names, x, "rocker")),
+        0.5 * p.K23r * q2("j23r")
+            - rotation_energy(
+                p.K23r,
+                rotation(names, x, "slider"),
+                rotation(names, x, "rocker"),
+            ),
         0.5 * p.K_C * q2("jC") - rotation_energy(p.K_C, drive, rotation(names, x, "crank")),
     ]
 }
@@ -296,7 +375,11 @@ fn phantoms(p: &QuickReturnParams, t: f64, x: &[f64]) -> [f64; 2] {
 type Samples = (Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
 
 fn sampled<M: Model>(model: &M, t0: f64, x0: &[f64], times: &[f64]) -> Samples {
-    let solver = Solver::Radau5(Radau5Options { rtol: 1e-12, atol: 1e-14, ..Default::default() });
+    let solver = Solver::Radau5(Radau5Options {
+        rtol: 1e-12,
+        atol: 1e-14,
+        ..Default::default()
+    });
     let mut sim = Simulation::new(model, solver).expect("a simulation");
     let (mut ts, mut xs, mut ys) = (Vec::new(), Vec::new(), Vec::new());
     sim.run(t0, x0, times, &mut |t: f64, x: &[f64], y: &[f64]| {
@@ -322,28 +405,46 @@ fn account<M: Model>(
     let names = M::STATE_NAMES;
     let out = odd_states(names, orbit);
     let mu = block_multipliers(orbit, &out);
-    let top = mu.iter().filter(|m| m.im.abs() < 1e-12).min_by(|a, b| (a.re - target).abs().total_cmp(&(b.re - target).abs())).unwrap().re;
+    let top = mu
+        .iter()
+        .filter(|m| m.im.abs() < 1e-12)
+        .min_by(|a, b| (a.re - target).abs().total_cmp(&(b.re - target).abs()))
+        .unwrap()
+        .re;
     let v = eigenvector(orbit, &out, top);
     let per = 400;
-    let times: Vec<f64> = (0..=per * periods).map(|k| orbit.t0 + orbit.period * k as f64 / per as f64).collect();
+    let times: Vec<f64> = (0..=per * periods)
+        .map(|k| orbit.t0 + orbit.period * k as f64 / per as f64)
+        .collect();
     let x1: Vec<f64> = orbit.x0.iter().zip(&v).map(|(a, b)| a + eps * b).collect();
     let (ts, xa, ya) = sampled(model, orbit.t0, &orbit.x0, &times);
     let (_, xb, yb) = sampled(model, orbit.t0, &x1, &times);
     let col = |n: &str| M::OUTPUT_NAMES.iter().position(|o| *o == n).unwrap();
     let (e, pin, pdiss) = (col("E_stored"), col("P_in"), col("P_diss"));
-    println!("{label}: multiplier {top:.5}, eps {eps:e}; per period, perturbed run less the orbit (J):");
+    println!(
+        "{label}: multiplier {top:.5}, eps {eps:e}; per period, perturbed run less the orbit (J):"
+    );
     println!("  period  growth   dE_stored     W_drive       W_diss        closure    -dPhantom j23r  -dPhantom jC");
     let (mut w_in, mut w_diss) = (0.0, 0.0);
     let mut start = 0;
-    let size = |k: usize| out.iter().map(|&i| (xb[k][i] - xa[k][i]).powi(2)).sum::<f64>().sqrt();
+    let size = |k: usize| {
+        out.iter()
+            .map(|&i| (xb[k][i] - xa[k][i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
     for k in 1..ts.len() {
         let h = ts[k] - ts[k - 1];
         w_in += 0.5 * h * ((yb[k][pin] - ya[k][pin]) + (yb[k - 1][pin] - ya[k - 1][pin]));
         w_diss += 0.5 * h * ((yb[k][pdiss] - ya[k][pdiss]) + (yb[k - 1][pdiss] - ya[k - 1][pdiss]));
         if k % per == 0 {
             let de = (yb[k][e] - ya[k][e]) - (yb[start][e] - ya[start][e]);
-            let (pa0, pb0, pa1, pb1) =
-                (phantom(ts[start], &xa[start]), phantom(ts[start], &xb[start]), phantom(ts[k], &xa[k]), phantom(ts[k], &xb[k]));
+            let (pa0, pb0, pa1, pb1) = (
+                phantom(ts[start], &xa[start]),
+                phantom(ts[start], &xb[start]),
+                phantom(ts[k], &xa[k]),
+                phantom(ts[k], &xb[k]),
+            );
             let dph = |j: usize| -((pb1[j] - pa1[j]) - (pb0[j] - pa0[j]));
             println!(
                 "  {:>6}  {:.4}  {de:+.4e}  {w_in:+.4e}  {w_diss:+.4e}  {:+.2e}  {:+.4e}  {:+.4e}",
@@ -367,6 +468,8 @@ fn energy(steps: usize) {
     let p = model.params().clone();
     print_mode::<QuickReturn>(&orbit, 1.08);
     for eps in [1e-5, 1e-4, 1e-3] {
-        account("flagship", &model, &orbit, eps, 3, 1.08, &|t, x| phantoms(&p, t, x));
+        account("flagship", &model, &orbit, eps, 3, 1.08, &|t, x| {
+            phantoms(&p, t, x)
+        });
     }
 }
