@@ -14,6 +14,7 @@
 //! - [`torque_driven`]: the same mechanism with the crank driven by a torque input,
 //!   for a host's speed controller.
 
+pub mod configuration_springs;
 pub mod figures;
 pub mod model;
 pub mod results;
