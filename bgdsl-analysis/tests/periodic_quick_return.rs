@@ -197,11 +197,14 @@ fn in_plane(orbit: &PeriodicOrbit) -> Vec<usize> {
 /// points have moved apart, e.g. the slider's offset from the rocker's axis, and the
 /// directions off the rotation matrices, `RᵀR`).
 ///
-/// The out-of-plane motions are another matter (see `docs/periodic-and-fitting.md`):
+/// The out-of-plane motions are another matter (see `docs/quick-return-floquet.md`):
 /// the planar orbit is unstable to them, one multiplier 1.0817 (the slider and rocker
 /// rolling about their axis with the crank and the rod), which a run from the orbit
 /// with that perturbation confirms (it grows by 1.087 in the first period), and a
-/// long run never leaves the plane (its out-of-plane states stay exactly zero).
+/// long run never leaves the plane (its out-of-plane states stay exactly zero). It is
+/// the drive coupling's, whose spring integrates a relative angular velocity in frame 0
+/// instead of measuring a relative orientation, not the mechanism's: with springs of
+/// the configuration it is gone (`periodic_quick_return_roll.rs`).
 ///
 /// At the default 400 SDIRK steps per period the out-of-plane multipliers near 1 form
 /// near-Jordan blocks, which `Φ`'s integration error splits into a spurious pair of
